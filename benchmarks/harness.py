@@ -1,0 +1,99 @@
+"""Tiny benchmark runner: median wall time over repeats, printed as a table with ratios.
+
+Every benchmark script builds a list of :class:`Case` rows. Rows that share a ``group`` are
+compared against the row of that group whose ``variant`` equals the group's ``baseline`` — measured
+in the same run, on the same machine, so ratios stay meaningful when absolute times drift.
+"""
+
+from __future__ import annotations
+
+import statistics
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+
+
+@dataclass
+class Case:
+    """One timed row: ``fn`` is called ``repeats`` times after ``warmup`` untimed calls."""
+
+    group: str
+    variant: str
+    fn: Callable[[], object]
+    repeats: int = 7
+    warmup: int = 1
+    baseline: str | None = None
+    extra: dict[str, str] = field(default_factory=dict)
+
+
+@dataclass
+class Row:
+    group: str
+    variant: str
+    median_s: float
+    min_s: float
+    repeats: int
+    ratio: float | None
+    extra: dict[str, str]
+
+
+def time_case(case: Case) -> tuple[float, float]:
+    """Median and minimum seconds of ``case.fn`` over ``case.repeats`` calls."""
+    for _ in range(case.warmup):
+        case.fn()
+    samples = []
+    for _ in range(case.repeats):
+        start = time.perf_counter()
+        case.fn()
+        samples.append(time.perf_counter() - start)
+    return statistics.median(samples), min(samples)
+
+
+def format_seconds(seconds: float) -> str:
+    if seconds < 1e-3:
+        return f"{seconds * 1e6:.1f} µs"
+    if seconds < 1.0:
+        return f"{seconds * 1e3:.2f} ms"
+    return f"{seconds:.2f} s"
+
+
+def run_table(cases: Sequence[Case], title: str = "") -> list[Row]:
+    """Time every case and print one table.
+
+    ``ratio`` = baseline median / this median, so a value above 1 means faster than the baseline.
+    """
+    medians: dict[tuple[str, str], float] = {}
+    rows: list[Row] = []
+    for case in cases:
+        median, best = time_case(case)
+        medians[(case.group, case.variant)] = median
+        rows.append(Row(case.group, case.variant, median, best, case.repeats, None, case.extra))
+    for row, case in zip(rows, cases, strict=True):
+        if case.baseline is not None and (case.group, case.baseline) in medians:
+            row.ratio = medians[(case.group, case.baseline)] / row.median_s
+    print_rows(rows, title)
+    return rows
+
+
+def print_rows(rows: Sequence[Row], title: str = "") -> None:
+    extra_keys = sorted({k for r in rows for k in r.extra})
+    header = ["group", "variant", *extra_keys, "median", "min", "n", "speed-up vs baseline"]
+    body = [
+        [
+            r.group,
+            r.variant,
+            *[r.extra.get(k, "") for k in extra_keys],
+            format_seconds(r.median_s),
+            format_seconds(r.min_s),
+            str(r.repeats),
+            "" if r.ratio is None else f"{r.ratio:.1f}x",
+        ]
+        for r in rows
+    ]
+    widths = [max([len(h)] + [len(b[i]) for b in body]) for i, h in enumerate(header)]
+    if title:
+        print(f"\n## {title}\n")
+    print("| " + " | ".join(h.ljust(w) for h, w in zip(header, widths, strict=True)) + " |")
+    print("|" + "|".join("-" * (w + 2) for w in widths) + "|")
+    for b in body:
+        print("| " + " | ".join(c.ljust(w) for c, w in zip(b, widths, strict=True)) + " |")

@@ -1,0 +1,80 @@
+"""Robot models: kinematics class, footprint and limits (ROS parameter names where they exist)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from socialnav.core.geometry import FloatArray, point_segment_distance, polygon_edges
+
+
+def rectangle(length: float, width: float) -> tuple[tuple[float, float], ...]:
+    """Footprint polygon of a ``length`` (along x) × ``width`` rectangle centred on the robot."""
+    hx, hy = length / 2.0, width / 2.0
+    return ((hx, hy), (-hx, hy), (-hx, -hy), (hx, -hy))
+
+
+@dataclass(frozen=True)
+class RobotModel:
+    """Kinematics and limits. Velocities in m/s and rad/s, accelerations in m/s² and rad/s²."""
+
+    name: str
+    holonomic: bool
+    footprint: tuple[tuple[float, float], ...]
+    max_vel_x: float
+    min_vel_x: float
+    max_vel_y: float
+    max_vel_theta: float
+    acc_lim_x: float
+    acc_lim_y: float
+    acc_lim_theta: float
+    min_vel_trans: float = 0.05
+    min_vel_theta: float = 0.1
+    min_in_place_vel_theta: float = 0.4
+    _polygon: FloatArray = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "_polygon", np.asarray(self.footprint, dtype=float))
+
+    @property
+    def polygon(self) -> FloatArray:
+        """Footprint vertices ``(V, 2)`` in the body frame."""
+        return self._polygon
+
+    @property
+    def circumscribed_radius(self) -> float:
+        return float(np.linalg.norm(self._polygon, axis=1).max())
+
+    @property
+    def inscribed_radius(self) -> float:
+        a, b = polygon_edges(self._polygon)
+        return float(point_segment_distance(np.zeros(2), a, b).min())
+
+
+# The scenario suite's two robots (shared/reference/scenarios.md).
+PR2 = RobotModel(
+    name="pr2",
+    holonomic=True,
+    footprint=rectangle(0.65, 0.65),
+    max_vel_x=0.55,
+    min_vel_x=-0.1,
+    max_vel_y=0.3,
+    max_vel_theta=1.0,
+    acc_lim_x=2.5,
+    acc_lim_y=2.5,
+    acc_lim_theta=3.2,
+)
+PIONEER = RobotModel(
+    name="pioneer",
+    holonomic=False,
+    footprint=rectangle(0.45, 0.38),
+    max_vel_x=0.5,
+    min_vel_x=-0.1,
+    max_vel_y=0.0,
+    max_vel_theta=1.0,
+    acc_lim_x=1.5,
+    acc_lim_y=0.0,
+    acc_lim_theta=3.0,
+)
+ROBOT_MODELS: dict[str, RobotModel] = {PR2.name: PR2, PIONEER.name: PIONEER}

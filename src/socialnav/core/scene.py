@@ -1,0 +1,121 @@
+"""The social context the planner sees: people, groups, queues and artworks.
+
+It comes from a scenario file or, later, from perception; the planner only ever sees a
+:class:`SocialContext`. Positions in metres in the world frame; yaw CCW from +x.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from socialnav.core.errors import InvalidInputError
+from socialnav.core.geometry import FloatArray
+
+HUMAN_RADIUS = 0.25
+
+
+def _finite(values: tuple[float, ...], what: str) -> None:
+    if not np.all(np.isfinite(values)):
+        raise InvalidInputError(f"{what} contains NaN or infinite values: {values}")
+
+
+@dataclass(frozen=True)
+class Person:
+    """One person: ``position`` (m), ``velocity`` (m/s, world), ``yaw`` (rad), ``radius`` (m)."""
+
+    id: int
+    position: tuple[float, float]
+    velocity: tuple[float, float] = (0.0, 0.0)
+    yaw: float = 0.0
+    radius: float = HUMAN_RADIUS
+
+    def __post_init__(self) -> None:
+        _finite((*self.position, *self.velocity, self.yaw, self.radius), f"person {self.id}")
+        if self.radius <= 0:
+            raise InvalidInputError(f"person {self.id}: radius must be positive")
+
+
+@dataclass(frozen=True)
+class Group:
+    """People standing in an O-formation. ``mode`` is ``"join"`` or ``"lead"`` (the robot leads)."""
+
+    member_ids: tuple[int, ...]
+    mode: str = "join"
+
+    def __post_init__(self) -> None:
+        if self.mode not in ("join", "lead"):
+            raise InvalidInputError(f"group mode must be 'join' or 'lead', got {self.mode!r}")
+
+
+@dataclass(frozen=True)
+class Queue:
+    """People waiting in line; ``member_ids`` run from the person being served to the last one."""
+
+    member_ids: tuple[int, ...]
+    service_point: tuple[float, float]
+    spacing: float = 0.8
+
+    def __post_init__(self) -> None:
+        _finite((*self.service_point, self.spacing), "queue")
+
+
+@dataclass(frozen=True)
+class Artwork:
+    """A flat artwork on a wall: ``center`` (m), ``width`` (m), ``facing`` = yaw of its normal into
+    the room (rad); ``viewer_ids`` are the people looking at it."""
+
+    center: tuple[float, float]
+    width: float
+    facing: float
+    viewer_ids: tuple[int, ...] = ()
+
+    def __post_init__(self) -> None:
+        _finite((*self.center, self.width, self.facing), "artwork")
+        if self.width <= 0:
+            raise InvalidInputError("artwork width must be positive")
+
+
+@dataclass(frozen=True)
+class SocialContext:
+    """Everything social the planner may reason about, at one instant."""
+
+    people: tuple[Person, ...] = ()
+    groups: tuple[Group, ...] = ()
+    queues: tuple[Queue, ...] = ()
+    artworks: tuple[Artwork, ...] = ()
+    _index: dict[int, int] = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        index = {p.id: i for i, p in enumerate(self.people)}
+        if len(index) != len(self.people):
+            raise InvalidInputError("person ids must be unique")
+        for g in (*self.groups, *self.queues, *self.artworks):
+            ids = g.member_ids if not isinstance(g, Artwork) else g.viewer_ids
+            missing = [i for i in ids if i not in index]
+            if missing:
+                kind = type(g).__name__
+                raise InvalidInputError(f"{kind} refers to unknown person ids {missing}")
+        object.__setattr__(self, "_index", index)
+
+    def person(self, person_id: int) -> Person:
+        return self.people[self._index[person_id]]
+
+    def positions(self, ids: tuple[int, ...] | None = None) -> FloatArray:
+        """``(K, 2)`` positions of the given people (all people by default)."""
+        chosen = self.people if ids is None else [self.person(i) for i in ids]
+        return np.array([p.position for p in chosen], dtype=float).reshape(-1, 2)
+
+    def velocities(self) -> FloatArray:
+        return np.array([p.velocity for p in self.people], dtype=float).reshape(-1, 2)
+
+    def radii(self) -> FloatArray:
+        return np.array([p.radius for p in self.people], dtype=float)
+
+    def yaws(self) -> FloatArray:
+        return np.array([p.yaw for p in self.people], dtype=float)
+
+    def with_people(self, people: tuple[Person, ...]) -> SocialContext:
+        """The same groups/queues/artworks with updated people (ids must still resolve)."""
+        return SocialContext(people, self.groups, self.queues, self.artworks)

@@ -1,0 +1,1 @@
+"""Layer 2: trajectory generation, critics, objectives, selection and the local planner."""
