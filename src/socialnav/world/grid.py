@@ -61,8 +61,11 @@ class GridGeometry:
 
     def in_bounds(self, rc: ArrayLike) -> NDArray[np.bool_]:
         c = np.asarray(rc)
-        return (c[..., 0] >= 0) & (c[..., 0] < self.shape[0]) & (c[..., 1] >= 0) & (
-            c[..., 1] < self.shape[1]
+        return (
+            (c[..., 0] >= 0)
+            & (c[..., 0] < self.shape[0])
+            & (c[..., 1] >= 0)
+            & (c[..., 1] < self.shape[1])
         )
 
     def cell_centers(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:

@@ -1,0 +1,137 @@
+"""``socialnav run``: one scenario with one planner, every output file written to one folder."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from socialnav.core.errors import ConfigurationError
+from socialnav.experiments.planners import PLANNERS, run_planner_episode
+from socialnav.experiments.storage import save_episode
+from socialnav.experiments.suite import EpisodeSpec
+
+
+def diagnostics_table(diagnostics: list[Any]) -> dict[str, list[Any]]:
+    """Per-step planner diagnostics as columns: status, chosen twist, candidates, rejections."""
+    columns: dict[str, list[Any]] = {
+        "step": [],
+        "status": [],
+        "n_candidates": [],
+        "n_legal": [],
+        "chosen_index": [],
+        "chosen_vx": [],
+        "chosen_vy": [],
+        "chosen_wz": [],
+        "rejections": [],
+        "objectives": [],
+        "plan_ms": [],
+    }
+    for step, diag in enumerate(diagnostics):
+        record = getattr(diag, "record", diag)
+        if record is None:
+            continue
+        twists = np.asarray(getattr(record, "twists", np.zeros((0, 3))))
+        legal = np.asarray(getattr(record, "legal", np.zeros(0, dtype=bool)))
+        chosen = getattr(record, "chosen", None)
+        columns["step"].append(step)
+        columns["status"].append(str(getattr(diag, "status", "")))
+        columns["n_candidates"].append(len(twists))
+        columns["n_legal"].append(int(legal.sum()))
+        columns["chosen_index"].append(-1 if chosen is None else int(chosen))
+        cmd = twists[chosen] if chosen is not None and len(twists) else np.full(3, np.nan)
+        columns["chosen_vx"].append(float(cmd[0]))
+        columns["chosen_vy"].append(float(cmd[1]))
+        columns["chosen_wz"].append(float(cmd[2]))
+        rejected = getattr(record, "rejected", {}) or {}
+        columns["rejections"].append(
+            json.dumps(
+                {
+                    f"{k[0]}:{k[1]}" if isinstance(k, tuple) else str(k): int(v)
+                    for k, v in rejected.items()
+                }
+            )
+        )
+        columns["objectives"].append(",".join(getattr(record, "objective_names", ()) or ()))
+        timing = getattr(record, "timing", {}) or {}
+        columns["plan_ms"].append(float(sum(timing.values()) * 1e3) if timing else np.nan)
+    return columns
+
+
+def run_single(
+    scenario: str,
+    planner: str,
+    robot: str,
+    *,
+    seed: int = 0,
+    humans: str = "scripted",
+    out: Path = Path("out"),
+    fmt: str = "parquet",
+    video: str = "none",
+) -> dict[str, Any]:
+    """Run, measure and draw one episode into ``out``; returns a summary dict."""
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    from socialnav.metrics import compute_metrics
+    from socialnav.metrics.success import evaluate_success
+    from socialnav.viz.topdown import plot_episode, save_figure
+
+    PLANNERS.get(planner)
+    if robot not in ("pr2", "pioneer"):
+        raise ConfigurationError(f"unknown robot {robot!r}; use pr2 or pioneer")
+    if humans not in ("scripted", "reactive"):
+        raise ConfigurationError(f"unknown human model {humans!r}; use scripted or reactive")
+    if video not in ("none", "gif", "mp4"):
+        raise ConfigurationError(f"unknown video format {video!r}; use none, gif or mp4")
+    spec = EpisodeSpec(scenario=scenario, planner=planner, robot=robot, seed=seed, humans=humans)
+    result = run_planner_episode(spec, record_diagnostics=True)
+    record = result.record
+    out.mkdir(parents=True, exist_ok=True)
+    save_episode(record, out, fmt=fmt)
+    columns = diagnostics_table(result.diagnostics)
+    if columns["step"]:
+        pq.write_table(pa.table(columns), out / "diagnostics.parquet")
+    metrics = {k: (None if np.isnan(v) else float(v)) for k, v in compute_metrics(record).items()}
+    success = {k: bool(v) for k, v in evaluate_success(record).items()}
+    (out / "metrics.json").write_text(json.dumps({**metrics, "success": success}, indent=1))
+    save_figure(plot_episode(record, label=planner), out / "topdown.png")
+    if video != "none":
+        from socialnav.viz.animation import animate_episode
+
+        frames = fan_frames(result.diagnostics)
+        animate_episode(record, frames or None, out / f"episode.{video}", fmt=video)
+    return {
+        "scenario": record.scenario,
+        "planner": planner,
+        "robot": robot,
+        "seed": seed,
+        "steps": record.num_steps,
+        "success": success.get("success"),
+        "wall_time_s": round(result.wall_time, 2),
+        "out": str(out),
+    }
+
+
+def fan_frames(diagnostics: list[Any]) -> list[Any]:
+    """Per-step candidate fans for the animation, from the planner's evaluation records."""
+    from socialnav.viz.animation import FanFrame
+
+    frames: list[Any] = []
+    for diag in diagnostics:
+        record = getattr(diag, "record", diag)
+        poses = getattr(record, "poses", None)
+        if record is None or poses is None:
+            frames.append(None)
+            continue
+        frames.append(
+            FanFrame(
+                poses=np.asarray(poses)[..., :2],
+                fitness=np.asarray(record.fitness),
+                legal=np.asarray(record.legal),
+                chosen=record.chosen,
+            )
+        )
+    return frames

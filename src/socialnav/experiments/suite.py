@@ -1,0 +1,165 @@
+"""Suites of episodes: which runs make up a comparison, and running them in parallel.
+
+``run_spec`` is a pure, picklable function of an :class:`EpisodeSpec`; seeds are fixed in the spec,
+so results never depend on the number of workers. A failed episode becomes a row with its error,
+never the end of the suite. ``run_suite`` resumes: rows already in ``results.parquet`` are skipped.
+"""
+
+from __future__ import annotations
+
+import time
+import traceback
+from collections.abc import Callable, Iterable, Sequence
+from dataclasses import asdict, dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pyarrow as pa
+import pyarrow.parquet as pq
+
+RESULTS_FILE = "results.parquet"
+TABLE1_SCENARIO = "hallway_passing"
+TABLE1_SEEDS = (0, 1, 2, 3, 4)
+
+
+@dataclass(frozen=True)
+class EpisodeSpec:
+    """One run: scenario × planner × robot × seed × human model."""
+
+    scenario: str
+    planner: str
+    robot: str
+    seed: int = 0
+    humans: str = "scripted"
+    randomize: bool = False
+
+    @property
+    def run_id(self) -> str:
+        name = Path(self.scenario).stem
+        suffix = "_rand" if self.randomize else ""
+        return f"{name}__{self.planner}__{self.robot}__{self.humans}{suffix}__s{self.seed}"
+
+
+def suite_specs(
+    suite: str,
+    scenarios: Sequence[str],
+    planners: Sequence[str],
+    robots: Sequence[str],
+    seeds: int | None = None,
+) -> list[EpisodeSpec]:
+    """The episodes of a named suite.
+
+    - ``paper``: every scenario once (seed 0) and ``hallway_passing`` with seeds 0–4 (Table 1).
+    - ``reactive``: the same runs with people driven by navground ``HL`` who react to the robot.
+    - ``randomized``: seeded jitter of positions, speeds and group sizes; ``seeds`` (20) each.
+    """
+    specs: list[EpisodeSpec] = []
+    for scenario in scenarios:
+        if suite == "randomized":
+            run_seeds: Iterable[int] = range(seeds or 20)
+        elif Path(scenario).stem == TABLE1_SCENARIO:
+            run_seeds = TABLE1_SEEDS if seeds is None else range(seeds)
+        else:
+            run_seeds = range(seeds or 1)
+        for planner in planners:
+            for robot in robots:
+                for seed in run_seeds:
+                    specs.append(
+                        EpisodeSpec(
+                            scenario=scenario,
+                            planner=planner,
+                            robot=robot,
+                            seed=seed,
+                            humans="reactive" if suite == "reactive" else "scripted",
+                            randomize=suite == "randomized",
+                        )
+                    )
+    return specs
+
+
+def run_spec(
+    spec: EpisodeSpec, out_dir: Path | None = None, figure: bool = False
+) -> dict[str, Any]:
+    """Run one episode; return its result row (metrics, success conditions, timing, error)."""
+    row: dict[str, Any] = {**asdict(spec), "run_id": spec.run_id, "error": ""}
+    started = time.perf_counter()
+    try:
+        from socialnav.experiments.planners import run_planner_episode
+        from socialnav.metrics import compute_metrics
+        from socialnav.metrics.success import evaluate_success
+
+        result = run_planner_episode(spec)
+        record = result.record
+        row.update({f"metric.{k}": float(v) for k, v in compute_metrics(record).items()})
+        row.update({f"ok.{k}": bool(v) for k, v in evaluate_success(record).items()})
+        row["family"] = record.family
+        row["steps"] = record.num_steps
+        row["planner_ms_median"] = float(record.meta.get("planner_ms_median", np.nan))
+        if out_dir is not None:
+            from socialnav.experiments.storage import save_episode
+
+            folder = save_episode(record, out_dir / "runs" / spec.run_id)
+            if figure:
+                from socialnav.viz.topdown import plot_episode, save_figure
+
+                save_figure(plot_episode(record), folder / "topdown.png")
+    except Exception as exc:  # an episode failure is data, not the end of the suite
+        row["error"] = f"{type(exc).__name__}: {exc}\n{traceback.format_exc(limit=4)}"
+    row["wall_time_s"] = time.perf_counter() - started
+    return row
+
+
+def _done_ids(out_dir: Path) -> set[str]:
+    path = out_dir / RESULTS_FILE
+    if not path.exists():
+        return set()
+    table = pq.read_table(path, columns=["run_id", "error"])
+    ok = [
+        r
+        for r, e in zip(table["run_id"].to_pylist(), table["error"].to_pylist(), strict=True)
+        if not e
+    ]
+    return set(ok)
+
+
+def run_suite(
+    specs: Sequence[EpisodeSpec],
+    out_dir: Path,
+    n_jobs: int = -1,
+    figures: bool = False,
+    resume: bool = True,
+    progress: Callable[[int, int], None] | None = None,
+) -> list[dict[str, Any]]:
+    """Run ``specs`` on all cores (joblib/loky) into ``out_dir``; returns every row, old and new."""
+    from joblib import Parallel, delayed
+
+    out_dir.mkdir(parents=True, exist_ok=True)
+    previous: list[dict[str, Any]] = []
+    done = _done_ids(out_dir) if resume else set()
+    if done:
+        previous = [
+            r for r in pq.read_table(out_dir / RESULTS_FILE).to_pylist() if r["run_id"] in done
+        ]
+    todo = [s for s in specs if s.run_id not in done]
+    rows: list[dict[str, Any]] = []
+    total = len(todo)
+    if progress:
+        progress(0, total)
+    runner = Parallel(n_jobs=n_jobs, return_as="generator_unordered", backend="loky")
+    for row in runner(delayed(run_spec)(s, out_dir, figures) for s in todo):
+        rows.append(row)
+        if progress:
+            progress(len(rows), total)
+    wanted = {s.run_id for s in specs}
+    all_rows = [r for r in previous if r["run_id"] in wanted] + rows
+    all_rows.sort(key=lambda r: r["run_id"])
+    write_rows(all_rows, out_dir / RESULTS_FILE)
+    return all_rows
+
+
+def write_rows(rows: Sequence[dict[str, Any]], path: Path) -> None:
+    """One Parquet row per episode; columns are the union of every row's keys."""
+    keys = sorted({k for r in rows for k in r})
+    columns = {k: [r.get(k) for r in rows] for k in keys}
+    pq.write_table(pa.table(columns), path)
