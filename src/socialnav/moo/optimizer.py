@@ -87,7 +87,9 @@ def _check_bounds(xl: ArrayLike, xu: ArrayLike) -> tuple[FloatArray, FloatArray]
     lo = np.atleast_1d(np.asarray(xl, dtype=float))
     hi = np.atleast_1d(np.asarray(xu, dtype=float))
     if lo.ndim != 1 or lo.shape != hi.shape or lo.size == 0:
-        raise ConfigurationError(f"bounds must be two 1-D arrays of equal length, got {lo.shape}, {hi.shape}")
+        raise ConfigurationError(
+            f"bounds must be two 1-D arrays of equal length, got {lo.shape}, {hi.shape}"
+        )
     if not (np.all(np.isfinite(lo)) and np.all(np.isfinite(hi))):
         raise ConfigurationError("bounds must be finite (PaCcET samples the box uniformly)")
     if np.any(hi <= lo):
@@ -160,7 +162,9 @@ class PaccetEvolution:
         from socialnav.moo.paccet import PaccetOptions
 
         self.xl, self.xu = _check_bounds(xl, xu)
-        _check_config(pop_size, n_eliminate, mutation_scale, p_best, archive_threshold, archive_buffer)
+        _check_config(
+            pop_size, n_eliminate, mutation_scale, p_best, archive_threshold, archive_buffer
+        )
         self.pop_size = int(pop_size)
         self.n_eliminate = self.pop_size // 2 if n_eliminate is None else int(n_eliminate)
         self.n_keep = self.pop_size - self.n_eliminate
@@ -351,7 +355,9 @@ def _check_config(
     if not (0.0 <= p_best <= 1.0):
         raise ConfigurationError(f"p_best must be in [0, 1], got {p_best!r}")
     if archive_threshold is not None and archive_threshold < 2:
-        raise ConfigurationError(f"archive_threshold must be >= 2 or None, got {archive_threshold!r}")
+        raise ConfigurationError(
+            f"archive_threshold must be >= 2 or None, got {archive_threshold!r}"
+        )
     if archive_buffer < 1:
         raise ConfigurationError(f"archive_buffer must be >= 1, got {archive_buffer!r}")
 
@@ -385,7 +391,9 @@ def paccet_evolve(
 
 
 def _problem_bounds(problem: Any) -> tuple[FloatArray, FloatArray]:
-    n_constr = int(getattr(problem, "n_ieq_constr", 0) or 0) + int(getattr(problem, "n_eq_constr", 0) or 0)
+    n_constr = int(getattr(problem, "n_ieq_constr", 0) or 0) + int(
+        getattr(problem, "n_eq_constr", 0) or 0
+    )
     if n_constr:
         raise ConfigurationError("PaCcET handles unconstrained problems only")
     if getattr(problem, "xl", None) is None or getattr(problem, "xu", None) is None:
@@ -432,8 +440,8 @@ def _build_pymoo_algorithm() -> type:
 
         Keyword arguments as :class:`PaccetEvolution` (``pop_size``, ``n_eliminate``,
         ``mutation_scale``, ``p_best``, ``scalarization``, ``target``, ``anchors``,
-        ``archive_threshold``, ``archive_buffer``, ``paccet_options``, ``tie_break``); the rest go to pymoo's
-        ``Algorithm`` (termination, callback, ...). Randomness comes from pymoo's
+        ``archive_threshold``, ``archive_buffer``, ``paccet_options``, ``tie_break``); the rest
+        go to pymoo's ``Algorithm`` (termination, callback, ...). Randomness comes from pymoo's
         ``random_state`` (``minimize(..., seed=s)``), so results match ``paccet_optimize`` with
         the same seed.
         """
@@ -454,7 +462,9 @@ def _build_pymoo_algorithm() -> type:
             **kwargs: Any,
         ) -> None:
             super().__init__(**kwargs)
-            _check_config(pop_size, n_eliminate, mutation_scale, p_best, archive_threshold, archive_buffer)
+            _check_config(
+                pop_size, n_eliminate, mutation_scale, p_best, archive_threshold, archive_buffer
+            )
             self.pop_size = pop_size
             self._options = {
                 "pop_size": pop_size,

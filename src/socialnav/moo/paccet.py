@@ -205,12 +205,30 @@ def _normalized(F: np.ndarray, lo: np.ndarray, hi: np.ndarray, d: np.ndarray) ->
 
 
 # ---------------------------------------------------------------------------- transformation
-def _s_star(x: np.ndarray, S: np.ndarray) -> np.ndarray:
-    """``(n,)`` ``min_p max_j S[p, j] / x[:, j]`` (+inf terms where ``x_j <= 0``), chunked."""
+def _s_star(x: np.ndarray, S: np.ndarray, members: np.ndarray | None = None) -> np.ndarray:
+    """``(n,)`` ``min_p max_j S[p, j] / x[:, j]`` (+inf terms where ``x_j <= 0``).
+
+    ``S`` (P, k) must be mutually non-dominated and unique (an archive). ``members`` (n,)
+    marks rows of ``x`` known to equal an archive member: their ``s*`` is exactly 1 (their own
+    ratio is 1, every other member exceeds it in some objective), so they are skipped.
+    """
     n, k = x.shape
+    out = np.ones(n)
+    rows = np.arange(n) if members is None else np.flatnonzero(~members)
+    if rows.size == 0:
+        return out
+    xr = x[rows]
+    inv = np.full_like(xr, np.inf)
+    np.divide(1.0, xr, out=inv, where=xr > 0)
+    # The staircase search only pays off beyond a few dozen members (sort + gather overhead).
+    out[rows] = _s_star_2d(inv, S) if k == 2 and S.shape[0] > 32 else _s_star_dense(inv, S)
+    return out
+
+
+def _s_star_dense(inv: np.ndarray, S: np.ndarray) -> np.ndarray:
+    """All pairs, one objective at a time, chunked so the (chunk, P) work matrix stays in cache."""
+    n, k = inv.shape
     P = S.shape[0]
-    inv = np.full_like(x, np.inf)
-    np.divide(1.0, x, out=inv, where=x > 0)
     out = np.empty(n)
     chunk = max(1, _CHUNK_ELEMS // P)
     ST = np.ascontiguousarray(S.T)  # (k, P): contiguous rows for the broadcasts below
@@ -220,13 +238,33 @@ def _s_star(x: np.ndarray, S: np.ndarray) -> np.ndarray:
         iv = inv[s : s + chunk]
         c = iv.shape[0]
         a, t = acc[:c], tmp[:c]
-        # One objective at a time: no (c, P, k) temporary, work matrix stays in cache.
         np.multiply(iv[:, 0:1], ST[0], out=a)
         for j in range(1, k):
             np.multiply(iv[:, j : j + 1], ST[j], out=t)
             np.maximum(a, t, out=a)
         a.min(axis=1, out=out[s : s + c])
     return out
+
+
+def _s_star_2d(inv: np.ndarray, S: np.ndarray) -> np.ndarray:
+    """m = 2 in O((n + P) log P): on the archive staircase (S0 up, S1 down) the first ratio
+    S_p0/x0 increases and the second S_p1/x1 decreases with p, so the min of their max sits
+    where ``S_p0/S_p1`` crosses ``x0/x1``; the neighbours of that crossing are evaluated with
+    the same products as the dense path (bit-identical result)."""
+    S = S[np.argsort(S[:, 0], kind="stable")]
+    if not (np.all(np.diff(S[:, 0]) > 0) and np.all(np.diff(S[:, 1]) < 0)):
+        # Not a staircase (caller-supplied archive with dominated rows or duplicates):
+        # dominated rows never attain the minimum, so filtering them is exact.
+        S = S[nondominated_mask(S)]
+        S = S[np.argsort(S[:, 0], kind="stable")]
+    P = S.shape[0]
+    with np.errstate(invalid="ignore", divide="ignore"):
+        key = S[:, 0] / S[:, 1]  # strictly increasing (S > 0, staircase)
+        xk = inv[:, 1] / inv[:, 0]  # = x0 / x1; NaN/inf rows have s* = inf anyway
+    k = np.searchsorted(key, np.where(np.isnan(xk), np.inf, xk))
+    near = np.clip(k[:, None] + np.arange(-2, 2), 0, P - 1)  # (n, 4) around the crossing
+    f = np.maximum(inv[:, 0:1] * S[near, 0], inv[:, 1:2] * S[near, 1])
+    return f.min(axis=1)
 
 
 def _bisect_steps(upper: float, tol: float) -> int:
@@ -274,9 +312,12 @@ def _bisect(crossing: np.ndarray, upper: float, tol: float, *, hit_moves_upper: 
 
 
 def _transform_core(
-    F: np.ndarray, A: np.ndarray, options: PaccetOptions
+    F: np.ndarray, A: np.ndarray, options: PaccetOptions, members: np.ndarray | None = None
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Validated, sentinel-capped F (n, m) and A (P, m) -> (T (n, m), kept (m,))."""
+    """Validated, sentinel-capped F (n, m) and A (P, m) -> (T (n, m), kept (m,)).
+
+    ``members`` (n,) optionally marks rows of F that are (unique) rows of A.
+    """
     lo, hi, d, kept = _bounds(F, A, options)
     cols = np.flatnonzero(kept)
     if cols.size < kept.size:
@@ -286,7 +327,9 @@ def _transform_core(
         Fk, Ak = F, A
     x = _normalized(Fk, lo, hi, d)
     S = _normalized(Ak, lo, hi, d)
-    s_star = _s_star(x, S)
+    # Dropped columns are constant over the archive, so members stay unique and mutually
+    # non-dominated in the reduced space and ``members`` remains valid.
+    s_star = _s_star(x, S, members)
     if options.method == "parity":
         scale = _parity_scale(x, s_star, options)
         Tk = x * scale[:, None]
@@ -359,7 +402,7 @@ def paccet_select(
     F = validate_objectives(F)
     (F,) = cap_sentinels(F, options.sentinel)
     nd = nondominated_mask(F)
-    T, kept = _transform_core(F, F[nd], options)
+    T, kept = _transform_core(F, F[nd], options, members=nd)
     fitness = _score(scalarization, T)
     best = best_index(fitness, nd if options.rank_weakly_dominated else None)
     return PaccetResult(T, fitness, best, nd, kept, options.rank_weakly_dominated)

@@ -1,5 +1,11 @@
-"""Critics: one small unit per cost term, each behind the :class:`Critic` interface."""
+"""Critics: one small unit per cost term, each behind the :class:`Critic` interface.
 
+Importing a critic module registers it in :data:`CRITICS`: navigation critics (goal_distance,
+heading, occupancy, path_distance) and social critics (activity_space, group, interpersonal,
+social_goal).
+"""
+
+from socialnav.planner.critics.activity_space import ActivitySpaceCritic
 from socialnav.planner.critics.base import (
     CRITICS,
     Critic,
@@ -7,5 +13,26 @@ from socialnav.planner.critics.base import (
     CriticUnavailable,
     aggregate_time,
 )
+from socialnav.planner.critics.goal_distance import GoalDistanceCritic
+from socialnav.planner.critics.group import GroupCritic
+from socialnav.planner.critics.heading import HeadingCritic
+from socialnav.planner.critics.interpersonal import InterpersonalCritic
+from socialnav.planner.critics.occupancy import OccupancyCritic
+from socialnav.planner.critics.path_distance import PathDistanceCritic
+from socialnav.planner.critics.social_goal import SocialGoalCritic
 
-__all__ = ["CRITICS", "Critic", "CriticScore", "CriticUnavailable", "aggregate_time"]
+__all__ = [
+    "CRITICS",
+    "ActivitySpaceCritic",
+    "Critic",
+    "CriticScore",
+    "CriticUnavailable",
+    "GoalDistanceCritic",
+    "GroupCritic",
+    "HeadingCritic",
+    "InterpersonalCritic",
+    "OccupancyCritic",
+    "PathDistanceCritic",
+    "SocialGoalCritic",
+    "aggregate_time",
+]

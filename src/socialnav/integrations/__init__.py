@@ -1,0 +1,1 @@
+"""Layer 5: adapters to other ecosystems (navground behaviour plugin, …)."""

@@ -1,0 +1,100 @@
+"""Group-distance critic: the paper's GD objective.
+
+Banisetty et al., "Socially-Aware Navigation: A Non-linear Multi-Objective Optimization Approach",
+eq. (Group Distance): ``GD_f = exp(1 / GD)`` "whenever [the robot] is close to a group".
+
+Deviations and choices (the paper does not define GD or "close"):
+- ``GD`` = distance from the trajectory point to the boundary of the group's o-space disc
+  (fitted circle radius ``R − 0.3`` m, :func:`socialnav.social.spaces.o_space`) from the members'
+  current positions (groups stand still); inside the disc the cost is the cap
+  ``exp(1/min_distance)``.
+- "Close" = ``GD <= influence_range`` (default 0.25 m): the join spot on the group circle lies
+  0.3 m outside the o-space, so joining a group is not penalised while cutting through it is.
+- Groups whose o-space has radius 0 (one member, a very tight pair) are ignored: the
+  interpersonal critic already covers individuals.
+- ``evaluation="last"`` (paper: end point) or ``"max_over_time"`` (every rollout point);
+  several groups → maximum. ``illegal_inside=True`` declares trajectories whose centre enters any
+  o-space at any time illegal (reason ``ospace_intrusion``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, ClassVar, Literal
+
+import numpy as np
+
+from socialnav.core.errors import ConfigurationError
+from socialnav.core.geometry import FloatArray
+from socialnav.core.scene import SocialContext
+from socialnav.core.trajectories import Trajectories
+from socialnav.planner.critics.base import CRITICS, Critic, CriticScore
+from socialnav.planner.critics.interpersonal import capped_inverse_exp
+from socialnav.social.spaces import OSPACE_MARGIN, o_space
+
+if TYPE_CHECKING:
+    from socialnav.planner.context import PlanningContext
+
+
+def group_ospaces(
+    social: SocialContext, margin: float = OSPACE_MARGIN
+) -> tuple[FloatArray, FloatArray]:
+    """Centres ``(G, 2)`` and radii ``(G,)`` of the non-empty o-spaces of ``social.groups``."""
+    centers, radii = [], []
+    for group in social.groups:
+        if not group.member_ids:
+            continue
+        c, r = o_space(social.positions(group.member_ids), margin)
+        if r > 0:
+            centers.append(c)
+            radii.append(r)
+    return np.array(centers, dtype=float).reshape(-1, 2), np.array(radii, dtype=float)
+
+
+@CRITICS.register("group")
+@dataclass(frozen=True)
+class GroupCritic(Critic):
+    """``GD_f = exp(1/GD)`` within ``influence_range`` of a group's o-space (module docstring).
+
+    Parameters: ``influence_range`` (m, 0.25), ``evaluation`` (``last`` | ``max_over_time``),
+    ``min_distance`` (m, cap ``exp(1/min_distance)``), ``margin`` (m, o-space = R − margin),
+    ``illegal_inside`` (bool).
+    """
+
+    name: ClassVar[str] = "group"
+    unit: ClassVar[str] = "exp(1/m)"
+
+    influence_range: float = 0.25
+    evaluation: Literal["last", "max_over_time"] = "last"
+    min_distance: float = 0.1
+    margin: float = OSPACE_MARGIN
+    illegal_inside: bool = False
+
+    def __post_init__(self) -> None:
+        if not self.influence_range >= 0 or not self.min_distance > 0:
+            raise ConfigurationError("group: influence_range >= 0 and min_distance > 0 required")
+        if self.evaluation not in ("last", "max_over_time"):
+            raise ConfigurationError(
+                f"group: evaluation must be last|max_over_time, got {self.evaluation!r}"
+            )
+
+    def score(self, trajs: Trajectories, ctx: PlanningContext) -> CriticScore:
+        n = len(trajs)
+        centers, radii = group_ospaces(ctx.social, self.margin)
+        if radii.size == 0:
+            return CriticScore(np.zeros(n))
+        xy = trajs.xy if self.evaluation == "max_over_time" else trajs.xy[:, -1:]
+        dx = xy[:, :, None, 0] - centers[:, 0]
+        dy = xy[:, :, None, 1] - centers[:, 1]
+        d2 = dx * dx + dy * dy  # (N, T', G)
+        # GD_f is non-increasing in GD: the max over time is taken at the closest approach
+        gd = np.sqrt(d2.min(axis=1)) - radii  # (N, G)
+        cost = capped_inverse_exp(gd, self.influence_range, self.min_distance).max(axis=1)
+        illegal: dict[str, np.ndarray] = {}
+        if self.illegal_inside:
+            if xy.shape[1] != trajs.xy.shape[1]:
+                dx = trajs.xy[:, :, None, 0] - centers[:, 0]
+                dy = trajs.xy[:, :, None, 1] - centers[:, 1]
+                d2 = dx * dx + dy * dy
+            illegal["ospace_intrusion"] = (d2 < radii**2).any(axis=(1, 2))
+        return CriticScore(cost, illegal)

@@ -1,0 +1,82 @@
+"""Heading critic: how far the trajectory's final yaw is from the way the plan goes.
+
+Banisetty et al., eq. "Cost function", term γ·Δ_heading (``Compute_Heading_Diff``); the paper's
+prose ("the distance that the robot is from the global path") duplicates Δ_path, so this follows
+ROS ``base_local_planner`` ``heading_scoring`` (``TrajectoryPlanner::headingDiff``) instead.
+
+Exact definition (rad, in ``[0, pi]``), evaluated at the end pose ``(x, y, yaw)``:
+1. ``i`` = nearest vertex of the global plan (densified to ``spacing`` m) to ``(x, y)``;
+2. ``j`` = the first vertex at least ``heading_lookahead`` m further along the plan (or the last);
+3. the desired direction is ``atan2`` of plan[j] − (x, y), or — when that point is closer than
+   ``heading_lookahead / 2`` (at the end of the plan) — the plan's tangent at ``j``;
+4. cost = ``|wrap(yaw − desired)|``.
+Deviation from ROS: ROS picks the furthest plan point in line of sight (a costmap ray test per
+sample); the look-ahead point along the plan needs no ray casting and is vectorized.
+Only the first ``horizon`` m of the plan are searched (the planner's reach + 2 m), so a plan that
+loops back near the robot does not confuse the nearest-vertex search.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, ClassVar
+
+import numpy as np
+
+from socialnav.core.geometry import wrap_angle
+from socialnav.core.trajectories import Trajectories
+from socialnav.planner.critics.base import CRITICS, Critic, CriticScore, CriticUnavailable
+from socialnav.planner.critics.path_distance import densify_path
+
+if TYPE_CHECKING:
+    from socialnav.planner.context import PlanningContext
+
+
+@CRITICS.register("heading")
+@dataclass(frozen=True)
+class HeadingCritic(Critic):
+    """``heading_lookahead`` (m) along the plan; ``spacing`` (m) of the densified plan."""
+
+    name: ClassVar[str] = "heading"
+    unit: ClassVar[str] = "rad"
+
+    heading_lookahead: float = 0.325
+    spacing: float = 0.05
+
+    def __post_init__(self) -> None:
+        if not (self.heading_lookahead > 0 and self.spacing > 0):
+            raise ValueError("heading_lookahead and spacing must be positive")
+
+    def prepare(self, ctx: PlanningContext) -> None:
+        if "heading_plan" in ctx.extras:
+            return
+        path = np.asarray(ctx.global_path, dtype=float).reshape(-1, 2)
+        if path.shape[0] == 0:
+            raise CriticUnavailable("empty global plan")
+        dense = densify_path(path, self.spacing)
+        s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(dense, axis=0), axis=1))])
+        horizon = float(ctx.extras.get("reach", np.inf)) + 2.0 + self.heading_lookahead
+        keep = s <= horizon
+        keep[0] = True
+        dense, s = dense[keep], s[keep]
+        # Tangent at each vertex: direction of the segment arriving at it (first: leaving it).
+        if dense.shape[0] > 1:
+            d = np.diff(dense, axis=0)
+            seg = np.arctan2(d[:, 1], d[:, 0])
+            tangent = np.concatenate([seg[:1], seg])
+        else:
+            tangent = np.array([float(ctx.goal[2])])
+        ctx.extras["heading_plan"] = (dense, s, tangent)
+
+    def score(self, trajs: Trajectories, ctx: PlanningContext) -> CriticScore:
+        if "heading_plan" not in ctx.extras:
+            self.prepare(ctx)
+        dense, s, tangent = ctx.extras["heading_plan"]
+        end = trajs.poses[:, -1].astype(float)
+        d2 = (end[:, None, 0] - dense[None, :, 0]) ** 2 + (end[:, None, 1] - dense[None, :, 1]) ** 2
+        i = np.argmin(d2, axis=1)
+        j = np.minimum(np.searchsorted(s, s[i] + self.heading_lookahead - 1e-9), s.size - 1)
+        delta = dense[j] - end[:, :2]
+        far = np.hypot(delta[:, 0], delta[:, 1]) >= 0.5 * self.heading_lookahead
+        desired = np.where(far, np.arctan2(delta[:, 1], delta[:, 0]), tangent[j])
+        return CriticScore(np.abs(wrap_angle(end[:, 2] - desired)))

@@ -1,0 +1,132 @@
+"""Interpersonal-distance critic: the paper's ID objective.
+
+Banisetty et al., "Socially-Aware Navigation: A Non-linear Multi-Objective Optimization Approach",
+eq. (Interpersonal Distance): ``ID_f = exp(1 / ID)`` when ``ID <= 1.5 m``, else 0, one objective
+per person (``ID_f1 … ID_fn``).
+
+Deviations and choices:
+- ``ID`` is the centre-to-centre distance (``distance="center"``, the paper's wording) or the
+  gap between the robot's footprint disc and the person's disc (``distance="edge"``); the
+  threshold applies to whichever distance is chosen.
+- ``exp(1/d)`` explodes near 0; ``d`` is clamped at ``min_distance`` (default 0.1 m), so the cost
+  is capped at ``exp(1/min_distance)`` ≈ 2.2e4 — finite, unlike the reference code's 1e9
+  sentinel, and such rows are normally illegal anyway (below).
+- ``evaluation="last"`` is the paper's rule: the trajectory's end point against people where
+  they are now. ``"max_over_time"`` scores every rollout point against people forecast to that
+  point's time (``ctx.people_at(trajs.t)``, Kollmitz-style time-indexed) and keeps the maximum.
+- ``person_slot=None`` aggregates over people by the maximum; ``person_slot=k`` scores only the
+  k-th nearest person to the robot at cycle start (0 = nearest; ties by person order; cost 0
+  when there are fewer people), so ``ID_f1 … ID_fn`` can be separate objectives.
+- Collisions: a trajectory whose footprint disc (``footprint_disc`` radius: the inscribed circle
+  by default — the occupancy critic handles corners against walls; choose ``circumscribed`` to be
+  conservative) overlaps a person's disc at any rollout time (people forecast by
+  ``ctx.people_at``) is illegal, reason ``person_collision``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, ClassVar, Literal
+
+import numpy as np
+
+from socialnav.core.errors import ConfigurationError
+from socialnav.core.geometry import FloatArray
+from socialnav.core.trajectories import Trajectories
+from socialnav.planner.critics.base import CRITICS, Critic, CriticScore
+
+if TYPE_CHECKING:
+    from socialnav.planner.context import PlanningContext
+
+
+def capped_inverse_exp(d: FloatArray, threshold: float, min_distance: float) -> FloatArray:
+    """``exp(1 / max(d, min_distance))`` where ``d <= threshold``, else 0 (same shape as ``d``)."""
+    return np.where(d <= threshold, np.exp(1.0 / np.maximum(d, min_distance)), 0.0)
+
+
+def footprint_radius(ctx: PlanningContext, which: str) -> float:
+    """The robot's inscribed or circumscribed radius (m)."""
+    return ctx.robot.inscribed_radius if which == "inscribed" else ctx.robot.circumscribed_radius
+
+
+@CRITICS.register("interpersonal")
+@dataclass(frozen=True)
+class InterpersonalCritic(Critic):
+    """``ID_f = exp(1/ID)`` for ``ID <= threshold`` (module docstring for the options).
+
+    Parameters: ``threshold`` (m, 1.5), ``distance`` (``center`` | ``edge``), ``evaluation``
+    (``last`` | ``max_over_time``), ``person_slot`` (int >= 0 or None), ``min_distance`` (m, the
+    cap), ``footprint_disc`` (``inscribed`` | ``circumscribed``), ``collision_check`` (bool).
+    """
+
+    name: ClassVar[str] = "interpersonal"
+    unit: ClassVar[str] = "exp(1/m)"
+
+    threshold: float = 1.5
+    distance: Literal["center", "edge"] = "center"
+    evaluation: Literal["last", "max_over_time"] = "last"
+    person_slot: int | None = None
+    min_distance: float = 0.1
+    footprint_disc: Literal["inscribed", "circumscribed"] = "inscribed"
+    collision_check: bool = True
+
+    def __post_init__(self) -> None:
+        if not self.threshold > 0 or not self.min_distance > 0:
+            raise ConfigurationError("interpersonal: threshold and min_distance must be > 0")
+        if self.distance not in ("center", "edge"):
+            raise ConfigurationError(
+                f"interpersonal: distance must be center|edge, got {self.distance!r}"
+            )
+        if self.evaluation not in ("last", "max_over_time"):
+            raise ConfigurationError(
+                f"interpersonal: evaluation must be last|max_over_time, got {self.evaluation!r}"
+            )
+        if self.person_slot is not None and (
+            not isinstance(self.person_slot, int) or self.person_slot < 0
+        ):
+            raise ConfigurationError("interpersonal: person_slot must be None or an int >= 0")
+        if self.footprint_disc not in ("inscribed", "circumscribed"):
+            raise ConfigurationError(
+                "interpersonal: footprint_disc must be inscribed|circumscribed"
+            )
+
+    def score(self, trajs: Trajectories, ctx: PlanningContext) -> CriticScore:
+        n = len(trajs)
+        people_now = ctx.social.positions()  # (K, 2)
+        k = people_now.shape[0]
+        if k == 0:
+            return CriticScore(np.zeros(n))
+        radii = ctx.social.radii()
+        robot_r = footprint_radius(ctx, self.footprint_disc)
+        xy = trajs.xy  # (N, T, 2)
+        need_all = self.evaluation == "max_over_time" or self.collision_check
+        d2_all = None
+        if need_all:
+            forecast = ctx.people_at(trajs.t)  # (T, K, 2)
+            dx = xy[:, :, None, 0] - forecast[None, :, :, 0]
+            dy = xy[:, :, None, 1] - forecast[None, :, :, 1]
+            d2_all = dx * dx + dy * dy  # (N, T, K) squared distances
+
+        if self.evaluation == "last":
+            d = np.linalg.norm(xy[:, -1, None, :] - people_now[None], axis=-1)  # (N, K)
+        else:
+            # f is non-increasing in d, so max over time of f(d) = f(min over time of d)
+            assert d2_all is not None
+            d = np.sqrt(d2_all.min(axis=1))
+        if self.distance == "edge":
+            d = np.maximum(d - radii - robot_r, 0.0)
+        f = capped_inverse_exp(d, self.threshold, self.min_distance)  # (N, K)
+
+        if self.person_slot is None:
+            cost = f.max(axis=1)
+        elif self.person_slot < k:
+            near = np.linalg.norm(people_now - ctx.pose[:2], axis=1)
+            cost = f[:, np.argsort(near, kind="stable")[self.person_slot]]
+        else:
+            cost = np.zeros(n)
+
+        illegal: dict[str, np.ndarray] = {}
+        if self.collision_check:
+            assert d2_all is not None
+            illegal["person_collision"] = (d2_all < (radii + robot_r) ** 2).any(axis=(1, 2))
+        return CriticScore(np.ascontiguousarray(cost, dtype=float), illegal)

@@ -1,0 +1,397 @@
+"""The trajectory-rollout local planner (ROS ``dwa_local_planner`` semantics, pluggable selection).
+
+Banisetty et al., "Socially-Aware Navigation: A Non-linear Multi-Objective Optimization
+Approach", section "Trajectory Planning" (Algorithms 1–3): sample the control space, forward
+simulate, score, discard collisions, select (PaCcET there; here any ``SelectionStrategy``).
+``traditional_planner`` = one "navigation" objective + ``WeightedSum([1.0])`` = the ROS planner.
+
+Decisions and deviations:
+- Goal handling follows ROS ``LatchedStopRotateController``: inside ``xy_goal_tolerance`` (latched)
+  brake at the acceleration limits, then rotate in place to the goal yaw, then ``GOAL_REACHED``.
+  The social goal's own tolerances replace the parameters when ``ctx.social_goal`` is the goal.
+- Oscillation suppression (ROS ``OscillationCostFunction``) is planner state, not a critic: after a
+  velocity axis changes sign, the opposite sign is illegal until the robot moved
+  ``oscillation_reset_dist`` or turned ``oscillation_reset_angle``. If that leaves nothing legal
+  the guard is reset for the cycle instead of stopping the robot.
+- Failures are statuses with a zero command, never exceptions: ``INVALID_INPUT`` (NaN/shape),
+  ``NO_PATH`` (empty plan), ``CRITIC_UNAVAILABLE`` (a critic's ``prepare`` gave up; an addition to
+  the agreed status list), ``NO_LEGAL_TRAJECTORY``.
+- Sample counts default to 6 × 5 × 11 (plus in-place rotations): ≈ 330 holonomic / 66
+  differential samples, a few milliseconds per cycle in NumPy, inside a 10 Hz budget.
+- ``heading_scale`` 0.2 per rad (the paper gives no value): 1 rad of misalignment weighs as much
+  as 0.25 m of goal distance at the ROS ``goal_distance_bias``.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from enum import StrEnum
+
+import numpy as np
+
+from socialnav.core.errors import ConfigurationError
+from socialnav.core.geometry import FloatArray, wrap_angle
+from socialnav.core.robot import RobotModel
+from socialnav.core.trajectories import Trajectories
+from socialnav.planner.context import PlanningContext
+from socialnav.planner.critics.base import CriticUnavailable
+from socialnav.planner.critics.goal_distance import GoalDistanceCritic
+from socialnav.planner.critics.heading import HeadingCritic
+from socialnav.planner.critics.occupancy import OccupancyCritic
+from socialnav.planner.critics.path_distance import PathDistanceCritic
+from socialnav.planner.objectives import Evaluation, Objective, evaluate
+from socialnav.planner.record import EvaluationRecord
+from socialnav.planner.rollout import rollout, validate_rollout
+from socialnav.planner.sampling import sample_twists, validate_sampling
+
+
+class PlannerStatus(StrEnum):
+    OK = "OK"
+    GOAL_REACHED = "GOAL_REACHED"
+    ROTATING_TO_GOAL = "ROTATING_TO_GOAL"
+    NO_LEGAL_TRAJECTORY = "NO_LEGAL_TRAJECTORY"
+    RECOVERING = "RECOVERING"
+    STUCK = "STUCK"
+    INVALID_INPUT = "INVALID_INPUT"
+    NO_PATH = "NO_PATH"
+    CRITIC_UNAVAILABLE = "CRITIC_UNAVAILABLE"
+
+
+@dataclass(frozen=True)
+class PlannerResult:
+    """``cmd (3,)`` body twist to apply; ``status``; ``record`` when asked; ``message`` why."""
+
+    cmd: FloatArray
+    status: PlannerStatus
+    record: EvaluationRecord | None = None
+    message: str = ""
+
+
+@dataclass(frozen=True)
+class LocalPlannerParams:
+    """ROS-named parameters (SI units, radians). See the module docstring for the choices."""
+
+    # sampling (dynamic window, DWA mode)
+    vx_samples: int = 6
+    vy_samples: int = 5
+    vth_samples: int = 11
+    controller_period: float = 0.1
+    # rollout
+    sim_time: float = 1.7
+    sim_granularity: float = 0.025
+    angular_sim_granularity: float = 0.1
+    # goal handling
+    xy_goal_tolerance: float = 0.1
+    yaw_goal_tolerance: float = 0.1
+    latch_xy_goal_tolerance: bool = True
+    trans_stopped_vel: float = 0.1
+    theta_stopped_vel: float = 0.1
+    # scoring (meter scoring)
+    path_distance_bias: float = 0.6
+    goal_distance_bias: float = 0.8
+    occdist_scale: float = 0.01
+    heading_scale: float = 0.2
+    heading_lookahead: float = 0.325
+    footprint_check: bool = True
+    # oscillation
+    oscillation_reset_dist: float = 0.05
+    oscillation_reset_angle: float = 0.2
+
+    def __post_init__(self) -> None:
+        try:
+            validate_sampling(self)
+            validate_rollout(self)
+        except ValueError as exc:
+            raise ConfigurationError(str(exc)) from None
+        for name in ("xy_goal_tolerance", "yaw_goal_tolerance", "path_distance_bias",
+                     "goal_distance_bias", "occdist_scale", "heading_scale",
+                     "oscillation_reset_dist", "oscillation_reset_angle"):
+            value = getattr(self, name)
+            if not (np.isfinite(value) and value >= 0):
+                raise ConfigurationError(f"{name} must be finite and >= 0, got {value}")
+
+
+def traditional_objectives(params: LocalPlannerParams | None = None) -> tuple[Objective, ...]:
+    """The single "navigation" objective: path, goal, occupancy and heading terms."""
+    p = params or LocalPlannerParams()
+    return (
+        Objective(
+            "navigation",
+            (
+                (PathDistanceCritic(), p.path_distance_bias),
+                (GoalDistanceCritic(), p.goal_distance_bias),
+                (OccupancyCritic(footprint=p.footprint_check), p.occdist_scale),
+                (HeadingCritic(heading_lookahead=p.heading_lookahead), p.heading_scale),
+            ),
+        ),
+    )
+
+
+def traditional_planner(robot: RobotModel, params: LocalPlannerParams | None = None
+                        ) -> LocalPlanner:
+    """The ROS planner: one navigation objective selected by a weighted sum."""
+    from socialnav.moo.selection import WeightedSum
+
+    p = params or LocalPlannerParams()
+    return LocalPlanner(robot, traditional_objectives(p), WeightedSum([1.0]), p)
+
+
+class OscillationGuard:
+    """ROS ``OscillationCostFunction`` flags for the x, y and rotation axes."""
+
+    def __init__(self, reset_dist: float, reset_angle: float) -> None:
+        self.reset_dist = reset_dist
+        self.reset_angle = reset_angle
+        self.reset()
+
+    def reset(self) -> None:
+        self.seen = np.zeros((3, 2), dtype=bool)  # axis × (positive, negative) seen
+        self.only = np.zeros(3, dtype=np.int8)  # +1 positive only, -1 negative only, 0 free
+        self.anchor: FloatArray | None = None
+
+    def illegal(self, twists: FloatArray) -> np.ndarray:
+        """``(N,)`` mask of twists reversing a locked axis."""
+        mask = np.zeros(twists.shape[0], dtype=bool)
+        for axis in range(3):
+            if self.only[axis] > 0:
+                mask |= twists[:, axis] < 0
+            elif self.only[axis] < 0:
+                mask |= twists[:, axis] > 0
+        return mask
+
+    def update(self, pose: FloatArray, cmd: FloatArray, min_vel_trans: float) -> None:
+        flagged = False
+        axes = [0, 1]
+        if abs(cmd[0]) <= min_vel_trans and abs(cmd[1]) <= min_vel_trans:
+            axes.append(2)  # ROS: rotation flags only while (almost) not translating
+        for axis in axes:
+            if cmd[axis] > 0:
+                if self.seen[axis, 1]:
+                    self.only[axis], flagged = 1, True
+                self.seen[axis] = (True, False)
+            elif cmd[axis] < 0:
+                if self.seen[axis, 0]:
+                    self.only[axis], flagged = -1, True
+                self.seen[axis] = (False, True)
+        if flagged:
+            self.anchor = pose.copy()
+        if self.only.any() and self.anchor is not None:
+            moved = np.hypot(*(pose[:2] - self.anchor[:2]))
+            turned = abs(float(wrap_angle(pose[2] - self.anchor[2])))
+            if moved > self.reset_dist or turned > self.reset_angle:
+                self.reset()
+
+
+def _zero() -> FloatArray:
+    return np.zeros(3)
+
+
+def _valid_inputs(ctx: PlanningContext) -> str:
+    """Empty string when the context is usable, else what is wrong."""
+    for name in ("pose", "velocity", "goal"):
+        value = np.asarray(getattr(ctx, name))
+        if value.shape != (3,) or not np.all(np.isfinite(value)):
+            return f"{name} must be a finite (3,) array, got {value!r}"
+    path = np.asarray(ctx.global_path)
+    if path.ndim != 2 or path.shape[1:] != (2,) or not np.all(np.isfinite(path)):
+        return f"global_path must be a finite (P, 2) array, got shape {path.shape}"
+    return ""
+
+
+@dataclass
+class _Cycle:
+    timing: dict[str, float] = field(default_factory=dict)
+    twists: FloatArray | None = None
+    trajs: Trajectories | None = None
+    evaluation: Evaluation | None = None
+
+
+class LocalPlanner:
+    """Sample → roll out → evaluate objectives → select. ``plan`` never raises on a
+    well-typed context."""
+
+    def __init__(
+        self,
+        robot: RobotModel,
+        objectives: Sequence[Objective],
+        selection: object,
+        params: LocalPlannerParams | None = None,
+    ) -> None:
+        self.robot = robot
+        self.objectives = tuple(objectives)
+        if not self.objectives or not all(isinstance(o, Objective) for o in self.objectives):
+            raise ConfigurationError("objectives must be a non-empty sequence of Objective")
+        if not callable(getattr(selection, "select", None)):
+            raise ConfigurationError("selection must have a select(F, legal) method")
+        self.selection = selection
+        self.params = params or LocalPlannerParams()
+        self._oscillation = OscillationGuard(
+            self.params.oscillation_reset_dist, self.params.oscillation_reset_angle
+        )
+        self.reset()
+
+    def reset(self) -> None:
+        self._latched = False
+        self._rotating = False
+        self._goal: FloatArray | None = None
+        self._oscillation.reset()
+        for obj in self.objectives:
+            for critic, _ in obj.terms:
+                critic.reset()
+
+    # ---- public ---------------------------------------------------------------------------
+    def plan(self, ctx: PlanningContext, record: bool = False) -> PlannerResult:
+        """One control cycle: a body twist ``cmd (3,)`` and a status."""
+        start = time.perf_counter()
+        problem = _valid_inputs(ctx)
+        if problem:
+            return self._result(ctx, _zero(), PlannerStatus.INVALID_INPUT, problem, record, None,
+                                start)
+        if ctx.global_path.shape[0] == 0:
+            return self._result(ctx, _zero(), PlannerStatus.NO_PATH, "empty global plan",
+                                record, None, start)
+        cycle = _Cycle()
+        self._track_goal(ctx.goal)
+        xy_tol, yaw_tol = self._tolerances(ctx)
+        dist = float(np.hypot(*(ctx.goal[:2] - ctx.pose[:2])))
+        if self._latched or dist <= xy_tol:
+            self._latched = self.params.latch_xy_goal_tolerance
+        else:
+            self._rotating = False
+        if self._latched or dist <= xy_tol:
+            status, cmd, msg = self._at_goal(ctx, yaw_tol, cycle)
+            return self._result(ctx, cmd, status, msg, record, cycle, start)
+        try:
+            status, cmd, msg, chosen = self._sample_and_select(ctx, cycle)
+        except CriticUnavailable as exc:
+            return self._result(ctx, _zero(), PlannerStatus.CRITIC_UNAVAILABLE, str(exc),
+                                record, cycle, start)
+        return self._result(ctx, cmd, status, msg, record, cycle, start, chosen)
+
+    # ---- stages ---------------------------------------------------------------------------
+    def _track_goal(self, goal: FloatArray) -> None:
+        if self._goal is None or np.any(np.abs(goal - self._goal) > 1e-6):
+            self._goal = np.array(goal, dtype=float)
+            self._latched = False
+            self._rotating = False
+            self._oscillation.reset()
+
+    def _tolerances(self, ctx: PlanningContext) -> tuple[float, float]:
+        sg = ctx.social_goal
+        xy, yaw = self.params.xy_goal_tolerance, self.params.yaw_goal_tolerance
+        pose = getattr(sg, "pose", None)
+        if pose is not None and np.allclose(np.asarray(pose, dtype=float), ctx.goal):
+            xy = float(getattr(sg, "position_tolerance", xy))
+            yaw = float(getattr(sg, "yaw_tolerance", yaw))
+        return xy, yaw
+
+    def _at_goal(self, ctx: PlanningContext, yaw_tol: float, cycle: _Cycle
+                 ) -> tuple[PlannerStatus, FloatArray, str]:
+        p, r = self.params, self.robot
+        err = float(wrap_angle(ctx.goal[2] - ctx.pose[2]))
+        if abs(err) <= yaw_tol:
+            return PlannerStatus.GOAL_REACHED, _zero(), ""
+        v = np.asarray(ctx.velocity, dtype=float)
+        moving = np.hypot(v[0], v[1]) > p.trans_stopped_vel or abs(v[2]) > p.theta_stopped_vel
+        dt = p.controller_period
+        if moving and not self._rotating:  # brake at the acceleration limits before turning
+            acc = np.array([r.acc_lim_x, r.acc_lim_y, r.acc_lim_theta]) * dt
+            cmd = v - np.sign(v) * np.minimum(np.abs(v), acc)
+            return PlannerStatus.ROTATING_TO_GOAL, cmd, "stopping at the goal"
+        self._rotating = True  # ROS rotating_to_goal_: do not brake again once turning
+        # ROS rotateToGoal: in-place speed within limits, acceleration and stopping distance.
+        w = min(r.max_vel_theta, max(r.min_in_place_vel_theta, abs(err)))
+        w = min(max(w, abs(v[2]) - r.acc_lim_theta * dt), abs(v[2]) + r.acc_lim_theta * dt)
+        w = min(w, float(np.sqrt(2.0 * r.acc_lim_theta * abs(err))))
+        cmd = np.array([0.0, 0.0, np.copysign(w, err)])
+        twists = cmd[None]
+        ctx.extras.setdefault("reach", 2.0 * ctx.costmap.resolution)
+        trajs = rollout(ctx.pose, ctx.velocity, twists, r, p)
+        try:
+            ev = evaluate(self.objectives, trajs, ctx)
+        except CriticUnavailable as exc:
+            return PlannerStatus.CRITIC_UNAVAILABLE, _zero(), str(exc)
+        cycle.twists, cycle.trajs, cycle.evaluation = twists, trajs, ev
+        if not ev.legal[0]:
+            why = "in-place rotation to goal is illegal"
+            return PlannerStatus.NO_LEGAL_TRAJECTORY, _zero(), why
+        return PlannerStatus.ROTATING_TO_GOAL, cmd, ""
+
+    def _sample_and_select(self, ctx: PlanningContext, cycle: _Cycle
+                           ) -> tuple[PlannerStatus, FloatArray, str, object]:
+        p, t = self.params, cycle.timing
+        t0 = time.perf_counter()
+        twists = sample_twists(self.robot, ctx.velocity, p)
+        t1 = time.perf_counter()
+        t["sample"] = t1 - t0
+        cycle.twists = twists
+        if twists.shape[0] == 0:
+            return PlannerStatus.NO_LEGAL_TRAJECTORY, _zero(), "no velocity samples", None
+        reach = float(np.hypot(twists[:, 0], twists[:, 1]).max()) * p.sim_time
+        ctx.extras.setdefault("reach", reach + 2.0 * ctx.costmap.resolution)
+        trajs = rollout(ctx.pose, ctx.velocity, twists, self.robot, p)
+        t2 = time.perf_counter()
+        t["rollout"] = t2 - t1
+        cycle.trajs = trajs
+        ev = evaluate(self.objectives, trajs, ctx)
+        t.update(ev.timing)
+        t3 = time.perf_counter()
+        legal, F = ev.legal, ev.F
+        osc = self._oscillation.illegal(twists) & legal
+        if osc.any():
+            ev.rejected[("oscillation", "reversal")] = int(np.count_nonzero(osc))
+            if (legal & ~osc).any():
+                legal = legal & ~osc
+                F = F.copy()
+                F[osc] = np.inf
+            else:
+                self._oscillation.reset()
+        cycle.evaluation = Evaluation(F, legal, ev.raw, ev.rejected, ev.names, ev.timing)
+        t3 = time.perf_counter()
+        selection = self.selection.select(F, legal)
+        t["select"] = time.perf_counter() - t3
+        if selection.index is None or not legal.any():
+            return PlannerStatus.NO_LEGAL_TRAJECTORY, _zero(), "no legal trajectory", selection
+        cmd = twists[int(selection.index)].copy()
+        self._oscillation.update(ctx.pose, cmd, self.robot.min_vel_trans)
+        return PlannerStatus.OK, cmd, "", selection
+
+    def _result(
+        self,
+        ctx: PlanningContext,
+        cmd: FloatArray,
+        status: PlannerStatus,
+        message: str,
+        record: bool,
+        cycle: _Cycle | None,
+        start: float,
+        selection: object = None,
+    ) -> PlannerResult:
+        if not record:
+            return PlannerResult(cmd, status, None, message)
+        timing = dict(cycle.timing) if cycle else {}
+        timing["total"] = time.perf_counter() - start
+        ev = cycle.evaluation if cycle else None
+        rec = EvaluationRecord(
+            time=float(ctx.time),
+            pose=np.array(ctx.pose, dtype=float),
+            velocity=np.array(ctx.velocity, dtype=float),
+            goal=np.array(ctx.goal, dtype=float),
+            status=status.value,
+            message=message,
+            twists=cycle.twists if cycle and cycle.twists is not None else np.zeros((0, 3)),
+            end_poses=(cycle.trajs.end_poses.astype(float) if cycle and cycle.trajs is not None
+                       else np.zeros((0, 3))),
+            F=ev.F if ev else np.zeros((0, len(self.objectives))),
+            objective_names=tuple(o.name for o in self.objectives),
+            legal=ev.legal if ev else np.zeros(0, dtype=bool),
+            raw=ev.raw if ev else {},
+            rejected=ev.rejected if ev else {},
+            fitness=getattr(selection, "fitness", None),
+            chosen=getattr(selection, "index", None),
+            selection=dict(getattr(selection, "details", {}) or {}),
+            timing=timing,
+        )
+        return PlannerResult(cmd, status, rec, message)

@@ -1,0 +1,179 @@
+"""Navigator: global plan + local window + local planner, one call per control cycle.
+
+Banisetty et al., "Trajectory Planning": a global planner over the map, "regenerated every few
+seconds", and a local planner that follows it; move_base's role in ROS.
+
+Decisions:
+- The target is the social goal when ``social_goal_fn`` returns one. A *waypoint* social goal
+  (``is_waypoint``) is driven to first; once the robot is within its ``position_tolerance``
+  (at least the planner's ``xy_goal_tolerance``) it is remembered as passed and the given goal
+  becomes the target again.
+- Replans every ``replan_period`` s and whenever the target moves by more than 5 cm / 0.05 rad.
+  When the global planner fails, the previous plan to the same target is kept; failing that, a
+  straight line to the target is used when ``straight_line_fallback`` (the local critics still
+  judge it; recoveries handle dead ends), else the status is ``NO_PATH``.
+- The plan is pruned behind the robot: it starts at the plan vertex nearest the robot among the
+  next ``prune_lookahead`` m of the plan (so a plan looping back is not skipped ahead).
+- The local window is ``window_size`` m square around the robot (``world.costmap.crop``; off-map
+  cells read UNKNOWN).
+- ``step`` never raises: bad input gives ``INVALID_INPUT``, any internal failure too (with the
+  exception text in ``message``).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from socialnav.core.geometry import FloatArray, wrap_angle
+from socialnav.core.robot import RobotModel
+from socialnav.core.scene import SocialContext
+from socialnav.planner.context import PlanningContext
+from socialnav.planner.global_planner import plan_path
+from socialnav.planner.local_planner import PlannerResult, PlannerStatus
+from socialnav.world.costmap import crop
+from socialnav.world.grid import Costmap
+
+SocialGoalFn = Callable[[SocialContext, FloatArray, FloatArray], Any]
+
+
+class Navigator:
+    """Holds the static inflated ``costmap`` and the given ``goal (3,)``; ``step`` returns the
+    body twist for the current state. ``local_planner`` is a ``LocalPlanner`` or a wrapper with
+    the same ``plan``/``reset`` (e.g. ``RecoveringPlanner``)."""
+
+    def __init__(
+        self,
+        robot: RobotModel,
+        local_planner: Any,
+        costmap: Costmap,
+        goal: ArrayLike,
+        social_goal_fn: SocialGoalFn | None = None,
+        replan_period: float = 2.0,
+        predict_people: bool = True,
+        window_size: float = 10.0,
+        prune_lookahead: float = 2.0,
+        straight_line_fallback: bool = True,
+        record: bool = False,
+    ) -> None:
+        g = np.asarray(goal, dtype=float)
+        if g.shape != (3,) or not np.all(np.isfinite(g)):
+            raise ValueError(f"goal must be a finite (x, y, yaw), got {goal!r}")
+        if not (np.isfinite(replan_period) and replan_period > 0):
+            raise ValueError("replan_period must be positive")
+        if not (np.isfinite(window_size) and window_size > 0):
+            raise ValueError("window_size must be positive")
+        self.robot = robot
+        self.local_planner = local_planner
+        self.costmap = costmap
+        self.goal = g
+        self.social_goal_fn = social_goal_fn
+        self.replan_period = float(replan_period)
+        self.predict_people = predict_people
+        self.window_size = float(window_size)
+        self.prune_lookahead = float(prune_lookahead)
+        self.straight_line_fallback = straight_line_fallback
+        self.record = record
+        self.reset()
+
+    def reset(self) -> None:
+        self.local_planner.reset()
+        self._path: FloatArray | None = None
+        self._path_target: FloatArray | None = None
+        self._plan_time = -np.inf
+        self._passed_waypoints: list[FloatArray] = []
+        self.last_plan_status = ""
+
+    # ---- public ---------------------------------------------------------------------------
+    def step(self, time: float, pose: ArrayLike, velocity: ArrayLike, social: SocialContext
+             ) -> PlannerResult:
+        try:
+            return self._step(float(time), pose, velocity, social)
+        except Exception as exc:  # the control loop must survive anything
+            return PlannerResult(np.zeros(3), PlannerStatus.INVALID_INPUT, None,
+                                 f"{type(exc).__name__}: {exc}")
+
+    # ---- internals ------------------------------------------------------------------------
+    def _step(self, time: float, pose_in: ArrayLike, vel_in: ArrayLike, social: SocialContext
+              ) -> PlannerResult:
+        pose = np.asarray(pose_in, dtype=float)
+        velocity = np.asarray(vel_in, dtype=float)
+        if (pose.shape != (3,) or velocity.shape != (3,) or not np.isfinite(time)
+                or not np.all(np.isfinite(pose)) or not np.all(np.isfinite(velocity))):
+            return PlannerResult(np.zeros(3), PlannerStatus.INVALID_INPUT, None,
+                                 "pose, velocity and time must be finite; pose/velocity (3,)")
+        social_goal = self._social_goal(social, pose)
+        target = self._target(social_goal, pose)
+        path = self._global_path(time, pose, target)
+        if path is None:
+            return PlannerResult(np.zeros(3), PlannerStatus.NO_PATH, None,
+                                 f"global planner: {self.last_plan_status}")
+        local = crop(self.costmap, pose[:2], self.window_size)
+        ctx = PlanningContext(
+            pose=pose,
+            velocity=velocity,
+            goal=target,
+            global_path=path,
+            costmap=local,
+            robot=self.robot,
+            social=social,
+            social_goal=social_goal,
+            predict_people=self.predict_people,
+            time=time,
+        )
+        return self.local_planner.plan(ctx, record=self.record)
+
+    def _social_goal(self, social: SocialContext, pose: FloatArray) -> Any:
+        if self.social_goal_fn is None:
+            return None
+        return self.social_goal_fn(social, self.goal, pose)
+
+    def _target(self, sg: Any, pose: FloatArray) -> FloatArray:
+        if sg is None:
+            return self.goal
+        sg_pose = np.asarray(sg.pose, dtype=float)
+        if not getattr(sg, "is_waypoint", False):
+            return sg_pose
+        tol = max(float(getattr(sg, "position_tolerance", 0.0)), 0.1)
+        if any(np.hypot(*(sg_pose[:2] - w[:2])) <= max(tol, 0.3)
+               for w in self._passed_waypoints):
+            return self.goal
+        if np.hypot(*(sg_pose[:2] - pose[:2])) <= tol:
+            self._passed_waypoints.append(sg_pose)
+            return self.goal
+        return sg_pose
+
+    def _global_path(self, time: float, pose: FloatArray, target: FloatArray
+                     ) -> FloatArray | None:
+        changed = self._path_target is None or (
+            np.hypot(*(target[:2] - self._path_target[:2])) > 0.05
+            or abs(float(wrap_angle(target[2] - self._path_target[2]))) > 0.05
+        )
+        if changed or time - self._plan_time >= self.replan_period or self._path is None:
+            plan = plan_path(self.costmap, pose[:2], target[:2])
+            self.last_plan_status = plan.status
+            self._plan_time = time
+            if plan.path is not None and plan.path.shape[0] > 0:
+                self._path = np.asarray(plan.path, dtype=float)
+            elif changed or self._path is None:
+                self._path = (
+                    np.stack([pose[:2], target[:2]]) if self.straight_line_fallback else None
+                )
+            self._path_target = target.copy()
+        if self._path is None:
+            return None
+        self._path = self._prune(self._path, pose)
+        return self._path
+
+    def _prune(self, path: FloatArray, pose: FloatArray) -> FloatArray:
+        if path.shape[0] < 2:
+            return path
+        seg = np.linalg.norm(np.diff(path, axis=0), axis=1)
+        s = np.concatenate([[0.0], np.cumsum(seg)])
+        candidates = np.flatnonzero(s <= self.prune_lookahead)
+        d = np.hypot(*(path[candidates] - pose[:2]).T)
+        i = int(candidates[np.argmin(d)])
+        return path[i:]

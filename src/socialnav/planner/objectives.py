@@ -1,0 +1,125 @@
+"""Objectives: weighted critic terms → the objective matrix ``F (N, m)``.
+
+Banisetty et al.: the traditional cost ``α Δ_path + β Δ_goal + γ Δ_heading + δ Δ_occ`` is one
+objective; each social feature (ID, GD, SGD) is another; PaCcET (or a weighted sum) selects.
+
+Decisions: weights live here (``Objective.terms``), never inside critics. Each distinct critic
+(frozen dataclasses compare by value) is prepared and scored once per cycle even when several
+objectives use it. A trajectory is legal only if no critic marks it illegal; ``F`` rows of illegal
+trajectories are ``+inf`` (their raw costs may be ``inf`` too).
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from socialnav.core.errors import ConfigurationError
+from socialnav.core.geometry import FloatArray
+from socialnav.core.trajectories import Trajectories
+from socialnav.planner.context import PlanningContext
+from socialnav.planner.critics.base import Critic
+
+
+@dataclass(frozen=True)
+class Objective:
+    """One objective: ``F[:, j] = Σ scale · critic.cost`` over ``terms``."""
+
+    name: str
+    terms: tuple[tuple[Critic, float], ...]
+
+    def __post_init__(self) -> None:
+        if not self.name:
+            raise ConfigurationError("objective name must be non-empty")
+        if not self.terms:
+            raise ConfigurationError(f"objective {self.name!r} has no terms")
+        for critic, scale in self.terms:
+            if not isinstance(critic, Critic):
+                raise ConfigurationError(f"objective {self.name!r}: {critic!r} is not a Critic")
+            if not (np.isfinite(scale) and scale >= 0):
+                raise ConfigurationError(
+                    f"objective {self.name!r}: scale for {critic.name} must be finite and >= 0"
+                )
+
+
+@dataclass(frozen=True)
+class Evaluation:
+    """``F (N, m)``, ``legal (N,)``, ``raw`` critic key → ``(N,)`` raw cost, ``rejected``
+    ``(critic key, reason)`` → count, ``names`` the objective names, ``timing`` seconds per
+    ``prepare:<key>`` / ``score:<key>``."""
+
+    F: FloatArray
+    legal: np.ndarray
+    raw: dict[str, FloatArray]
+    rejected: dict[tuple[str, str], int]
+    names: tuple[str, ...]
+    timing: dict[str, float] = field(default_factory=dict)
+
+
+def critic_keys(objectives: Sequence[Objective]) -> dict[Critic, str]:
+    """Distinct critics in order of first use → their key (the registry name, suffixed ``#2``…
+    when differently-parameterized critics of one kind are used)."""
+    keys: dict[Critic, str] = {}
+    used: dict[str, int] = {}
+    for obj in objectives:
+        for critic, _ in obj.terms:
+            if critic in keys:
+                continue
+            count = used.get(critic.name, 0) + 1
+            used[critic.name] = count
+            keys[critic] = critic.name if count == 1 else f"{critic.name}#{count}"
+    return keys
+
+
+def prepare(objectives: Sequence[Objective], ctx: PlanningContext,
+            timing: dict[str, float] | None = None) -> None:
+    """Run every distinct critic's ``prepare`` once; propagates ``CriticUnavailable``."""
+    for critic, key in critic_keys(objectives).items():
+        start = time.perf_counter()
+        critic.prepare(ctx)
+        if timing is not None:
+            timing[f"prepare:{key}"] = time.perf_counter() - start
+
+
+def evaluate(
+    objectives: Sequence[Objective],
+    trajs: Trajectories,
+    ctx: PlanningContext,
+    extra_illegal: dict[tuple[str, str], np.ndarray] | None = None,
+) -> Evaluation:
+    """Score ``trajs`` with every objective. Calls :func:`prepare` first (critics make it
+    idempotent within a cycle). ``extra_illegal`` adds masks from outside the critics (e.g. the
+    oscillation guard), keyed ``(source, reason)``. May raise ``CriticUnavailable``."""
+    timing: dict[str, float] = {}
+    prepare(objectives, ctx, timing)
+    n = len(trajs)
+    keys = critic_keys(objectives)
+    raw: dict[str, FloatArray] = {}
+    rejected: dict[tuple[str, str], int] = {}
+    legal = np.ones(n, dtype=bool)
+    for critic, key in keys.items():
+        start = time.perf_counter()
+        result = critic.score(trajs, ctx)
+        timing[f"score:{key}"] = time.perf_counter() - start
+        raw[key] = np.asarray(result.cost, dtype=float)
+        for reason, mask in result.illegal.items():
+            rejected[(key, reason)] = int(np.count_nonzero(mask))
+            legal &= ~np.asarray(mask, dtype=bool)
+    for (source, reason), mask in (extra_illegal or {}).items():
+        rejected[(source, reason)] = int(np.count_nonzero(mask & legal))
+        legal &= ~mask
+    # Critics promise finite costs on legal rows; a non-finite one is treated as illegal.
+    F = np.zeros((n, len(objectives)))
+    for j, obj in enumerate(objectives):
+        for critic, scale in obj.terms:
+            if scale != 0.0:
+                F[:, j] += scale * np.where(legal, raw[keys[critic]], 0.0)
+    bad = legal & ~np.isfinite(F).all(axis=1)
+    if bad.any():
+        rejected[("objectives", "non_finite")] = int(np.count_nonzero(bad))
+        legal &= ~bad
+    F[~legal] = np.inf
+    return Evaluation(F, legal, raw, rejected, tuple(o.name for o in objectives), timing)

@@ -1,0 +1,100 @@
+"""Human models: the paper's scripted people, and navground's reactive pedestrians.
+
+The paper's humans "exhibit very simple motion behaviors": they stand, or walk a fixed line at a
+fixed speed without reacting to the robot. :class:`ScriptedHuman` is that model as a navground
+Python behaviour (navground then moves the agent and shows it to everyone else as a neighbour).
+``humans="reactive"`` instead gives each person navground's ``HL`` (default), ``ORCA`` or
+``SocialForce`` behaviour toward a goal (their walk's end, their ``reactive_goal``, or their
+own start for people who stand): an extension beyond the paper.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from navground import core, sim
+
+from socialnav.core.errors import ConfigurationError
+from socialnav.sim.scenario import PersonSpec, Walk
+
+REACTIVE_BEHAVIORS = ("HL", "ORCA", "SocialForce")
+#: speed (m/s) of people who stand in scripted mode but move aside when reactive
+REACTIVE_STANDING_SPEED = 0.6
+#: sensing range (m) of reactive people and navground baseline robots
+SENSING_RANGE = 8.0
+
+
+class ScriptedHuman(core.Behavior):
+    """Constant velocity along a line, then stop: ``direction (2,)`` unit vector, ``speed`` (m/s),
+    ``length`` (m, may be ``inf``) from ``start (2,)``. Ignores everyone (never yields).
+
+    The last step is shortened so the person stops exactly at the end point.
+    """
+
+    def __init__(self, kinematics: core.Kinematics | None = None, radius: float = 0.0) -> None:
+        core.Behavior.__init__(self, kinematics, radius)
+        self.start = np.zeros(2)
+        self.direction = np.zeros(2)
+        self.walk_speed = 0.0
+        self.length = 0.0
+
+    def compute_cmd_internal(self, time_step: float) -> core.Twist2:
+        dt = float(time_step)
+        if self.walk_speed <= 0.0 or dt <= 0.0:
+            return core.Twist2((0.0, 0.0), 0.0, frame=core.Frame.absolute)
+        walked = float(np.dot(np.asarray(self.position, dtype=float) - self.start, self.direction))
+        remaining = max(self.length - walked, 0.0)
+        speed = min(self.walk_speed, remaining / dt)
+        v = self.direction * speed
+        return core.Twist2((float(v[0]), float(v[1])), 0.0, frame=core.Frame.absolute)
+
+
+def make_person_agent(person: PersonSpec, humans: str = "scripted",
+                      reactive_behavior: str = "HL") -> sim.Agent:
+    """A navground agent for one person (disc of the person's radius, omnidirectional)."""
+    start = np.asarray(person.position, dtype=float)
+    velocity = person.initial_velocity()
+    speed = float(np.linalg.norm(velocity))
+    if humans == "scripted":
+        behavior = ScriptedHuman()
+        if isinstance(person.behavior, Walk):
+            direction, speed = person.behavior.direction_speed()
+            behavior.start = start
+            behavior.direction = direction
+            behavior.walk_speed = speed
+            behavior.length = person.behavior.length(person.position)
+        # Kinematic limits well above the scripted speed: navground must never rescale it.
+        kinematics = core.kinematics.OmnidirectionalKinematics(2.0 * speed + 0.1, 1.0)
+        agent = sim.Agent(radius=person.radius, behavior=behavior, kinematics=kinematics,
+                          control_period=0.0, id=person.id)
+    elif humans == "reactive":
+        if reactive_behavior not in REACTIVE_BEHAVIORS:
+            raise ConfigurationError(
+                f"unknown reactive human behaviour {reactive_behavior!r}; "
+                f"known: {', '.join(REACTIVE_BEHAVIORS)}"
+            )
+        behavior = core.Behavior.make_type(reactive_behavior)
+        goal = person.reactive_goal
+        if goal is None:
+            end = person.end_point()
+            goal = tuple(end) if end is not None else person.position
+        cruise = speed if speed > 0 else REACTIVE_STANDING_SPEED
+        kinematics = core.kinematics.OmnidirectionalKinematics(cruise, math.pi)
+        behavior.optimal_speed = cruise
+        behavior.max_speed = cruise
+        behavior.radius = person.radius
+        task = sim.tasks.WaypointsTask(waypoints=[np.asarray(goal, dtype=float)], loop=False,
+                                       tolerance=0.1)
+        agent = sim.Agent(
+            radius=person.radius, behavior=behavior, kinematics=kinematics, task=task,
+            state_estimations=[sim.state_estimations.BoundedStateEstimation(range=SENSING_RANGE)],
+            control_period=0.0, id=person.id,
+        )
+    else:
+        raise ConfigurationError(f"humans must be 'scripted' or 'reactive', got {humans!r}")
+    agent.pose = core.Pose2((float(start[0]), float(start[1])), person.heading)
+    agent.twist = core.Twist2((float(velocity[0]), float(velocity[1])), 0.0,
+                              frame=core.Frame.absolute)
+    agent.type = "human"
+    return agent

@@ -1,0 +1,39 @@
+"""The project's front door: the README's two commands and CI stay in step."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def quick_start_commands() -> list[str]:
+    text = (ROOT / "README.md").read_text()
+    section = text.split("## Quick start", 1)[1]
+    block = re.search(r"```bash\n(.*?)```", section, re.S)
+    assert block, "the quick start needs a bash code block"
+    return [line for line in block.group(1).splitlines() if line.strip()]
+
+
+def test_quick_start_is_two_commands_main_job_then_tests() -> None:
+    commands = quick_start_commands()
+    assert len(commands) == 2
+    assert "socialnav compare" in commands[0]
+    assert "pytest" in commands[1]
+
+
+def test_ci_runs_the_readme_test_command() -> None:
+    ci = (ROOT / ".ci" / "run").read_text()
+    assert quick_start_commands()[1] in ci
+
+
+def test_no_machine_specific_paths_in_sources() -> None:
+    pattern = re.compile(r"/(work|root|home/[a-z]+)/")
+    offenders = [
+        str(path.relative_to(ROOT))
+        for folder in ("src", "tests", "benchmarks")
+        for path in (ROOT / folder).rglob("*")
+        if path.suffix in {".py", ".yaml", ".md", ".toml"} and pattern.search(path.read_text())
+    ]
+    assert offenders == []
