@@ -70,7 +70,10 @@ def test_time_not_moving_counts_waiting_before_the_goal(make_record, seg):
 def test_extra_time_uses_max_speed_from_meta(make_record, seg):
     path = seg((0, 0), (10, 0), 200)  # 0.5 m/s, reached at t = 20 s
     rec = make_record(path, goal_tolerance=0.01, meta={"max_speed": 1.0})
-    assert m("extra_time", rec) == pytest.approx(10.0)
+    assert m("extra_time", rec) == pytest.approx(20.0 - 9.99)
     pr2 = make_record(path, goal_tolerance=0.01, meta={"robot": "pr2"})
-    assert m("extra_time", pr2) == pytest.approx(20.0 - 10.0 / 0.55)
+    assert m("extra_time", pr2) == pytest.approx(20.0 - 9.99 / 0.55)
     assert math.isnan(m("extra_time", make_record(path, goal_tolerance=0.01)))
+    # arrival at 1.0 m tolerance: at t = 18 s at 0.5 m/s vs 9 m / 1 m/s straight
+    loose = make_record(path, goal_tolerance=1.0, meta={"max_speed": 1.0})
+    assert m("extra_time", loose) == pytest.approx(18.0 - 9.0)

@@ -143,7 +143,7 @@ def test_malformed_files_name_file_and_field(tmp_path: Path, mutate, field: str)
 def test_invalid_yaml_and_unknown_name(tmp_path: Path) -> None:
     path = tmp_path / "broken.yaml"
     path.write_text("name: [unclosed\n")
-    with pytest.raises(ConfigurationError, match="broken.yaml"):
+    with pytest.raises(ConfigurationError, match=r"broken\.yaml"):
         load_scenario(path)
     with pytest.raises(ConfigurationError, match="Did you mean 'queue_line'"):
         load_scenario("queue_lien")

@@ -49,9 +49,10 @@ def goal_reached_index(record: EpisodeRecord, tolerance: float | None = None) ->
     return 0 if outside.size == 0 else int(outside[-1] + 1)
 
 
-def reached_within_limit(record: EpisodeRecord) -> bool:
-    """The goal is reached (and held) no later than ``record.time_limit`` after the start."""
-    k = goal_reached_index(record)
+def reached_within_limit(record: EpisodeRecord, tolerance: float | None = None) -> bool:
+    """The goal is reached (and held, see :func:`goal_reached_index`) no later than
+    ``record.time_limit`` after the first sample."""
+    k = goal_reached_index(record, tolerance)
     return k is not None and bool(record.times[k] - record.times[0] <= record.time_limit + 1e-9)
 
 

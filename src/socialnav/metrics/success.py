@@ -1,9 +1,16 @@
 """Success conditions of the scenario suite (scenarios.md, "Success conditions"), measured from
 the recorded trajectory only.
 
+The families are the experiments of Banisetty et al. (section "Results"), which judges them
+from figures; these measurable conditions are the project's (scenarios.md).
+
 Every family:
-- ``reached_goal``: within ``record.goal_tolerance`` of ``record.target`` (the social goal where
-  the scenario has one) from some sample on until the end, reached within ``record.time_limit``.
+- ``reached_goal``: within tolerance of ``record.target`` (the social goal where the scenario
+  has one) from some sample on until the end, reached within ``record.time_limit``. The
+  tolerance is ``record.goal_tolerance``; for the families whose target is a social spot
+  (``gallery_present``, ``queue``, ``group``) it is ``max(goal_tolerance, 0.3)``, so that a
+  robot ending inside the 0.3 m spot radius of scenarios.md counts as arrived whatever the
+  planner's own (tighter) goal tolerance was.
 - ``no_collision``: no sample flagged in ``collision_person`` or ``collision_obstacle``.
 
 Per family (``record.family``):
@@ -51,6 +58,7 @@ FAMILIES = ("hallway", "gallery_present", "gallery_activity", "queue", "group")
 SPOT_TOLERANCE = 0.3  # m, scenarios.md
 HEADING_TOLERANCE = 0.5  # rad, this library's choice (scenarios.md: "facing")
 PERSONAL_SPACE_OPTIONAL = frozenset({"hallway_headon"})
+SPOT_FAMILIES = frozenset({"gallery_present", "queue", "group"})
 
 
 @dataclass(frozen=True)
@@ -77,8 +85,11 @@ def success_conditions(record: EpisodeRecord) -> list[Condition]:
     if record.family not in FAMILIES:
         raise InvalidInputError(f"unknown family {record.family!r}; known: {FAMILIES}")
     collided = bool(np.any(record.collision_person) or np.any(record.collision_obstacle))
+    tolerance = record.goal_tolerance
+    if record.family in SPOT_FAMILIES:
+        tolerance = max(tolerance, SPOT_TOLERANCE)
     out = [
-        Condition("reached_goal", reached_within_limit(record)),
+        Condition("reached_goal", reached_within_limit(record, tolerance)),
         Condition("no_collision", not collided),
     ]
     family = record.family

@@ -114,9 +114,12 @@ def max_speed_of(record: EpisodeRecord) -> float | None:
 
 @metric("extra_time", unit="s", direction="min")
 def extra_time(record: EpisodeRecord) -> float:
-    """time_to_goal - |target - p_0| / v_max, with v_max from ``meta["max_speed"]`` or the robot
-    model named by ``meta["robot"]``. NaN when the goal is not reached or v_max is unknown."""
+    """time_to_goal - max(|target - p_0| - goal_tolerance, 0) / v_max: the time lost against
+    driving straight at top speed until the goal tolerance is met (the same arrival criterion
+    as ``time_to_goal``). v_max from ``meta["max_speed"]`` or the robot model named by
+    ``meta["robot"]``. NaN when the goal is not reached or v_max is unknown."""
     v_max = max_speed_of(record)
     if v_max is None or v_max <= 0:
         return float("nan")
-    return time_to_goal(record) - _straight_line(record) / v_max
+    straight = max(_straight_line(record) - record.goal_tolerance, 0.0)
+    return time_to_goal(record) - straight / v_max

@@ -25,7 +25,7 @@ from navground import core, sim
 from socialnav.core.geometry import FloatArray
 from socialnav.core.robot import RobotModel
 from socialnav.core.scene import SocialContext
-from socialnav.sim.controller import ControlOutput, Controller, clamp_to_robot
+from socialnav.sim.controller import Controller, ControlOutput, clamp_to_robot
 from socialnav.sim.humans import make_person_agent
 from socialnav.sim.scenario import Scenario
 
@@ -60,12 +60,6 @@ def pose_of(agent: sim.Agent | core.Behavior) -> FloatArray:
     return np.array([p.position[0], p.position[1], p.orientation], dtype=float)
 
 
-def body_twist_of(behavior: core.Behavior) -> FloatArray:
-    """Body-frame twist ``(3,)`` of a behaviour's current state."""
-    t = behavior.get_twist(core.Frame.relative)
-    return np.array([t.velocity[0], t.velocity[1], t.angular_speed], dtype=float)
-
-
 class ControllerBehavior(core.Behavior):
     """A navground behaviour that asks a :class:`Controller` for each command.
 
@@ -97,7 +91,10 @@ class ControllerBehavior(core.Behavior):
             self.last_output, self.last_cmd = None, np.zeros(3)
             return core.Twist2((0.0, 0.0), 0.0, frame=core.Frame.relative)
         time, social = self.observation(float(time_step))
-        out = self.controller.step(time, pose_of(self), body_twist_of(self), social)
+        # The body velocity is the previous command (commands act instantly); navground's own
+        # twist is stored in the world frame of the previous pose and would show a spurious
+        # lateral component once rotated into the new heading.
+        out = self.controller.step(time, pose_of(self), self.last_cmd.copy(), social)
         cmd = clamp_to_robot(out.cmd, self.robot_model)
         self.last_output, self.last_cmd = out, cmd
         return core.Twist2((float(cmd[0]), float(cmd[1])), float(cmd[2]),

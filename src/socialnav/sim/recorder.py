@@ -87,7 +87,9 @@ class StaticGeometry:
         return False
 
 
-def person_collisions(footprint_world: FloatArray, positions: FloatArray, radii: FloatArray) -> bool:
+def person_collisions(
+    footprint_world: FloatArray, positions: FloatArray, radii: FloatArray
+) -> bool:
     """Whether the footprint ``(V, 2)`` overlaps any person disc (``positions (K, 2)``)."""
     if len(positions) == 0:
         return False
@@ -127,15 +129,15 @@ class EpisodeRecorder:
         self.status.append(str(status))
 
     def build(self, **task: Any) -> EpisodeRecord:
-        k = len(self.people_ids)
+        k, t = len(self.people_ids), len(self.times)
         return EpisodeRecord(
             times=np.asarray(self.times, dtype=float),
             robot_poses=np.asarray(self.poses, dtype=float).reshape(-1, 3),
             robot_twists=np.asarray(self.twists, dtype=float).reshape(-1, 3),
             robot_footprint=self.footprint,
             people_ids=self.people_ids,
-            people_positions=np.asarray(self.people_pos, dtype=float).reshape(-1, k, 2),
-            people_velocities=np.asarray(self.people_vel, dtype=float).reshape(-1, k, 2),
+            people_positions=np.asarray(self.people_pos, dtype=float).reshape(t, k, 2),
+            people_velocities=np.asarray(self.people_vel, dtype=float).reshape(t, k, 2),
             people_radii=self.people_radii,
             collision_person=np.asarray(self.hit_person, dtype=bool),
             collision_obstacle=np.asarray(self.hit_obstacle, dtype=bool),

@@ -21,8 +21,8 @@ from typing import Any
 import numpy as np
 from navground import core
 
-from socialnav.core.errors import ConfigurationError
 from socialnav.core.episode import EpisodeRecord
+from socialnav.core.errors import ConfigurationError
 from socialnav.core.geometry import FloatArray
 from socialnav.core.robot import ROBOT_MODELS, RobotModel
 from socialnav.core.scene import SocialContext
@@ -147,7 +147,7 @@ def run_episode(
                                np.array([p.radius for p in scn.people], dtype=float), static)
     diagnostics: list[Any] = []
     dt = float(scn.control_period)
-    last = int(round(scn.time_limit / dt))
+    last = round(scn.time_limit / dt)
     reason = "time_limit"
     for k in range(last + 1):
         t = k * dt

@@ -420,8 +420,7 @@ class Scenario(_Model):
             if not (math.isfinite(resolution) and resolution > 0):
                 raise ConfigurationError(f"resolution must be positive, got {resolution}")
             xmin, ymin, xmax, ymax = self.bounds()
-            shape = (int(math.ceil((ymax - ymin) / resolution)),
-                     int(math.ceil((xmax - xmin) / resolution)))
+            shape = (math.ceil((ymax - ymin) / resolution), math.ceil((xmax - xmin) / resolution))
             geometry = GridGeometry(shape, resolution, (xmin, ymin))
             base = np.zeros(shape, dtype=bool)
         occupied = base | rasterize(

@@ -550,14 +550,17 @@ def _presenter_candidate(
 ) -> tuple[float, float] | None:
     """Lowest-depth point ``(l, d)`` on the circle around ``(lv, dv)`` of radius ``r`` with
     ``σl >= lmin`` and ``d >= wc``; ``None`` when there is none."""
+    tol = 1e-9  # tangent cases must not flip with rounding (rigid-motion equivariance)
     cands: list[tuple[float, float]] = [(lv, dv - r)]
     disc = r**2 - (dv - wc) ** 2
-    if disc >= 0:
-        cands += [(lv + np.sqrt(disc), wc), (lv - np.sqrt(disc), wc)]
+    if disc >= -tol:
+        root = np.sqrt(max(disc, 0.0))
+        cands += [(lv + root, wc), (lv - root, wc)]
     disc = r**2 - (sigma * lmin - lv) ** 2
-    if disc >= 0:
-        cands += [(sigma * lmin, dv - np.sqrt(disc)), (sigma * lmin, dv + np.sqrt(disc))]
-    ok = [(l_, d_) for l_, d_ in cands if sigma * l_ >= lmin - 1e-9 and d_ >= wc - 1e-9]
+    if disc >= -tol:
+        root = np.sqrt(max(disc, 0.0))
+        cands += [(sigma * lmin, dv - root), (sigma * lmin, dv + root)]
+    ok = [(l_, d_) for l_, d_ in cands if sigma * l_ >= lmin - tol and d_ >= wc - tol]
     if not ok:
         return None
     return min(ok, key=lambda ld: (ld[1], sigma * ld[0]))

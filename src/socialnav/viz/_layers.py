@@ -147,7 +147,7 @@ def figure_size(
     dx, dy = roi[1] - roi[0], roi[3] - roi[2]
     panel_h = float(np.clip(width * dy / max(dx, 1e-9), 1.0, 1.4 * width))
     w = cols * width + 0.9 + (2.9 if legend_right else 0.0)
-    h = rows * (panel_h + 0.7) + 0.4 + (0.0 if legend_right else 1.1)
+    h = rows * (panel_h + 0.7) + 0.4 + (0.0 if legend_right else 1.4)
     return w, h
 
 

@@ -96,7 +96,9 @@ def _legend(fig: Figure, axes: Sequence[Axes], wide: bool) -> None:
     if not handles:
         return
     if wide:
-        fig.legend(handles, labels, loc="outside lower center", ncols=4, fontsize=8,
+        # About 2.6 in per column keeps long planner labels (with stats) inside the figure.
+        ncols = max(1, min(len(handles), int(fig.get_figwidth() // 2.6)))
+        fig.legend(handles, labels, loc="outside lower center", ncols=ncols, fontsize=8,
                    frameon=False)
     else:
         fig.legend(handles, labels, loc="outside right upper", fontsize=8, frameon=False)
@@ -147,7 +149,7 @@ def plot_episode(
     wide = _is_wide(roi)
     own = ax is None
     if ax is None:
-        fig = L.new_figure(*L.figure_size(roi, legend_right=not wide))
+        fig = L.new_figure(*L.figure_size(roi, width=8.0 if wide else 6.0, legend_right=not wide))
         ax = fig.add_subplot()
     _draw_scene(ax, record, show_people=show_people, show_social=show_social)
     _draw_robot(
@@ -217,7 +219,7 @@ def plot_comparison(
     if mode == "overlay":
         if len({r.scenario for r in records}) > 1:
             raise ValueError("overlay needs records of one scenario; use mode='panels'")
-        fig = L.new_figure(*L.figure_size(roi, legend_right=not wide))
+        fig = L.new_figure(*L.figure_size(roi, width=8.0 if wide else 6.0, legend_right=not wide))
         ax = fig.add_subplot()
         _draw_scene(ax, first, show_people=show_people, show_social=show_social)
         for i, r in enumerate(records):
