@@ -122,6 +122,12 @@ def test_static_geometry_desk_and_disc() -> None:
     assert not static.collides(at(12.5, 19.6))
     assert static.collides(at(12.5, 20.3))  # inside the desk
     assert static.collides(at(3.7, 3.0)) and not static.collides(at(3.9, 3.0))
+    # The early "no" (bounding disc) never changes the answer.
+    radius = PR2.circumscribed_radius
+    for x in np.linspace(2.0, 14.0, 41):
+        for y in np.linspace(2.0, 21.0, 39):
+            fp = at(x, y)
+            assert static.collides(fp, np.array([x, y]), radius) == static.collides(fp)
     assert person_collisions(square, np.array([[0.0, 0.0]]), np.array([0.25]))
     assert not person_collisions(square, np.zeros((0, 2)), np.zeros(0))
 

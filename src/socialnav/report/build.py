@@ -57,7 +57,7 @@ TABLE1_METRICS = [
 ]
 SCENARIO_METRICS = [
     ("min_distance_center", "min dist (m)"),
-    ("personal_space_time", "t in personal (s)"),
+    ("psc_1.2", "time outside 1.2 m (share)"),
     ("path_length", "path (m)"),
     ("time_to_goal", "time (s)"),
 ]
@@ -309,7 +309,7 @@ def tradeoff_section(
         sel = [r for r in ok_rows if r["planner"] == planner]
         if not sel:
             continue
-        social = _mean([1.0 - _metric(r, "personal_space_share") for r in sel])
+        social = _mean([_metric(r, "psc_1.2") for r in sel])
         overhead = _mean([_metric(r, "path_length_ratio") for r in sel])
         time_to_goal = _mean([_metric(r, "time_to_goal") for r in sel])
         success = sum(bool(r.get("ok.success")) for r in sel) / len(sel)
@@ -322,7 +322,7 @@ def tradeoff_section(
             [
                 "planner",
                 "pass rate",
-                "1 − personal-space time share",
+                "time share outside personal space (psc_1.2)",
                 "path length ratio",
                 "time to goal (s)",
                 "planner ms/cycle (median)",
@@ -334,7 +334,7 @@ def tradeoff_section(
         fig = plot_tradeoff(
             points,
             "path length / straight line (lower is better)",
-            "1 − share of time in personal space (higher is better)",
+            "share of time outside personal space (higher is better)",
         )
         save_figure(fig, out_dir / "figures" / "tradeoff.png")
         doc.add(Image("figures/tradeoff.png", "social quality vs efficiency"))

@@ -70,8 +70,20 @@ class StaticGeometry:
         object.__setattr__(self, "_seg_a", np.concatenate(starts).reshape(-1, 2))
         object.__setattr__(self, "_seg_b", np.concatenate(ends).reshape(-1, 2))
 
-    def collides(self, footprint_world: FloatArray) -> bool:
-        """Whether the world-frame footprint polygon ``(V, 2)`` touches any static obstacle."""
+    def collides(self, footprint_world: FloatArray, center: FloatArray | None = None,
+                 radius: float = np.inf) -> bool:
+        """Whether the world-frame footprint polygon ``(V, 2)`` touches any static obstacle.
+
+        ``center``/``radius``: a disc containing the footprint, for a cheap early "no".
+        """
+        if center is not None and np.isfinite(radius):
+            near = len(self._seg_a) and point_segment_distance(
+                center, self._seg_a, self._seg_b).min() <= radius
+            inside = any(points_in_polygon(center, p) for p in self.polygons)
+            disc_near = len(self.discs) and (
+                np.hypot(*(self.discs[:, :2] - center).T) <= radius + self.discs[:, 2]).any()
+            if not (near or inside or disc_near):
+                return False
         fa, fb = polygon_edges(footprint_world)
         if segments_intersect(fa, fb, self._seg_a, self._seg_b):
             return True
@@ -103,6 +115,7 @@ class EpisodeRecorder:
     def __init__(self, footprint: FloatArray, people_ids: np.ndarray, people_radii: FloatArray,
                  static: StaticGeometry) -> None:
         self.footprint = np.asarray(footprint, dtype=float)
+        self.radius = float(np.linalg.norm(self.footprint, axis=1).max())
         self.people_ids = np.asarray(people_ids)
         self.people_radii = np.asarray(people_radii, dtype=float)
         self.static = static
@@ -124,8 +137,11 @@ class EpisodeRecorder:
         self.twists.append(np.asarray(cmd, dtype=float))
         self.people_pos.append(np.asarray(people_pos, dtype=float).reshape(-1, 2))
         self.people_vel.append(np.asarray(people_vel, dtype=float).reshape(-1, 2))
-        self.hit_person.append(person_collisions(fp, self.people_pos[-1], self.people_radii))
-        self.hit_obstacle.append(self.static.collides(fp))
+        center = np.asarray(pose[:2], dtype=float)
+        gap = np.hypot(*(self.people_pos[-1] - center).T) - self.people_radii - self.radius
+        near = self.people_pos[-1][gap <= 0.0]  # only people within reach of the footprint
+        self.hit_person.append(person_collisions(fp, near, self.people_radii[gap <= 0.0]))
+        self.hit_obstacle.append(self.static.collides(fp, center, self.radius))
         self.status.append(str(status))
 
     def build(self, **task: Any) -> EpisodeRecord:

@@ -4,10 +4,14 @@ Marder-Eppstein et al. 2010; the paper's ``Compute_Occ_Cost`` (Banisetty et al.,
 paper's rule "discard all the trajectories that lead to a collision".
 
 Decisions and deviations:
-- Cost = max over the rollout's poses ``t > 0`` of the centre cell's cost and, where checked, the
-  footprint outline's cells (costmap units 0..252 on legal rows). The current pose ``t = 0`` is
-  not scored: it is a fact, not a choice, and counting it would leave a robot that touched the
-  inflation with no legal move (ROS counts it).
+- Cost = max over the rollout's poses ``t > 0`` of the centre cell's cost (costmap units 0..252
+  on legal rows). The current pose ``t = 0`` is not scored: it is a fact, not a choice, and
+  counting it would leave a robot that touched the inflation with no legal move (ROS counts it).
+- Deviation from ROS: the footprint outline decides legality only; its cells do not raise the
+  cost (ROS takes the max over outline cells too). The inflation already encodes the robot's
+  size around the centre, so adding the outline double-counts clearance — with ROS weights a
+  robot then prefers standing still to passing a doorway — and only a centre-cell cost keeps the
+  shortcut below exact (skipped poses would otherwise change the cost, not just the legality).
 - Illegal: ``collision`` when the centre cell is INSCRIBED/LETHAL or an outline cell is LETHAL;
   ``unknown`` when the centre or an outline cell is UNKNOWN or off the map (ROS ``pointCost``).
 - Outline: the body-frame footprint polygon sampled every ``≤ resolution / 2`` along its edges
@@ -57,8 +61,8 @@ def footprint_outline(polygon: FloatArray, spacing: float) -> FloatArray:
 @CRITICS.register("occupancy")
 @dataclass(frozen=True)
 class OccupancyCritic(Critic):
-    """Max costmap cost (0..252; × resolution with ``meter_scoring``) along the trajectory;
-    collisions are illegal.
+    """Max centre-cell cost (0..252; × resolution with ``meter_scoring``) along the trajectory;
+    footprint collisions are illegal.
 
     - ``footprint``: check the footprint outline (``False``: centre cell only, a circular robot
       whose inscribed radius the inflation already encodes).
@@ -115,8 +119,7 @@ class OccupancyCritic(Critic):
             check &= ~(unknown | collision)[:, None]
             ti, tk = np.nonzero(check)
             if ti.size:
-                worst_fp, hit, unk = self._outline(ctx, poses[ti, tk], n, ti)
-                worst = np.maximum(worst, worst_fp)
+                hit, unk = self._outline(ctx, poses[ti, tk], n, ti)
                 collision |= hit
                 unknown |= unk
         illegal = collision | unknown
@@ -128,8 +131,9 @@ class OccupancyCritic(Critic):
     @staticmethod
     def _outline(
         ctx: PlanningContext, poses: FloatArray, n: int, owner: NDArray[np.intp]
-    ) -> tuple[FloatArray, NDArray[np.bool_], NDArray[np.bool_]]:
-        """Outline cost for ``poses (M, 3)`` reduced per trajectory ``owner (M,)`` → ``(n,)``."""
+    ) -> tuple[NDArray[np.bool_], NDArray[np.bool_]]:
+        """Outline LETHAL / UNKNOWN hits for ``poses (M, 3)``, reduced per trajectory
+        ``owner (M,)`` → ``(n,)`` each."""
         geom = ctx.costmap.geometry
         outline = ctx.extras["occupancy_outline"].astype(poses.dtype)  # (K, 2)
         c = np.cos(poses[:, 2:3])
@@ -147,13 +151,10 @@ class OccupancyCritic(Critic):
         cost = np.where(inside, ctx.costmap.costs[row, col], np.uint8(UNKNOWN))
         per_pose_unknown = (cost == UNKNOWN).any(axis=1)
         per_pose_hit = (cost == LETHAL).any(axis=1)
-        per_pose_worst = np.where(cost < INSCRIBED + 1, cost, 0).max(axis=1)
         # ``owner`` comes from np.nonzero, so it is sorted: segment reductions per trajectory.
         ids, start = np.unique(owner, return_index=True)
-        worst = np.zeros(n)
         hit = np.zeros(n, dtype=bool)
         unk = np.zeros(n, dtype=bool)
-        worst[ids] = np.maximum.reduceat(per_pose_worst, start)
         hit[ids] = np.logical_or.reduceat(per_pose_hit, start)
         unk[ids] = np.logical_or.reduceat(per_pose_unknown, start)
-        return np.minimum(worst, INSCRIBED - 1), hit, unk
+        return hit, unk

@@ -1,0 +1,232 @@
+"""Navigation critics (path/goal distance, occupancy, heading) on analytic maps."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from _planner_helpers import blank, context, straight
+
+from socialnav.core.robot import PIONEER, PR2, RobotModel, rectangle
+from socialnav.core.trajectories import Trajectories
+from socialnav.planner.critics import (
+    CRITICS,
+    CriticUnavailable,
+    GoalDistanceCritic,
+    HeadingCritic,
+    OccupancyCritic,
+    PathDistanceCritic,
+)
+from socialnav.planner.critics.path_distance import bfs_distance, local_plan_cells
+from socialnav.world.grid import INSCRIBED, LETHAL, UNKNOWN, Costmap, GridGeometry
+from socialnav.world.inflation import circumscribed_cost, inflate
+
+TINY = RobotModel("tiny", True, rectangle(0.04, 0.04), 0.5, -0.1, 0.3, 1.0, 2.5, 2.5, 3.2)
+
+
+def test_registered_names():
+    for name in ("path_distance", "goal_distance", "occupancy", "heading"):
+        assert name in CRITICS
+
+
+# ---- BFS --------------------------------------------------------------------------------
+
+def test_bfs_is_manhattan_on_an_empty_grid():
+    d = bfs_distance(np.ones((7, 9), dtype=bool), np.array([[3, 4]]))
+    r, c = np.mgrid[0:7, 0:9]
+    np.testing.assert_array_equal(d, np.abs(r - 3) + np.abs(c - 4))
+
+
+def test_bfs_goes_around_a_wall_and_marks_enclosed_cells_unreachable():
+    passable = np.ones((5, 5), dtype=bool)
+    passable[0:4, 2] = False  # wall with a gap at row 4
+    d = bfs_distance(passable, np.array([[0, 0]]))
+    assert d[0, 1] == 1
+    assert d[1, 3] == 4 + 3 + 3  # down to row 4, across to column 3, back up to row 1
+    assert np.isinf(d[0, 2])
+    enclosed = np.ones((5, 5), dtype=bool)
+    enclosed[1:4, 1:4] = False
+    enclosed[2, 2] = True
+    assert np.isinf(bfs_distance(enclosed, np.array([[0, 0]]))[2, 2])
+
+
+def test_bfs_early_stop_is_exact_inside_the_settled_region():
+    rng = np.random.default_rng(3)
+    passable = rng.random((40, 50)) > 0.25
+    passable[20, 25] = True
+    full = bfs_distance(passable, np.array([[20, 25]]))
+    region = (slice(15, 26), slice(20, 31))
+    part = bfs_distance(passable, np.array([[20, 25]]), settle=region)
+    np.testing.assert_array_equal(part[region], full[region])
+
+
+# ---- path / goal distance ---------------------------------------------------------------
+
+def _corridor_ctx(robot=TINY):
+    cm = blank(40, 100)  # 5 m × 2 m at 0.05
+    path = np.array([[0.5, 1.0], [4.5, 1.0]])
+    return context(cm, robot, pose=(0.5, 1.0, 0.0), path=path, goal=(4.5, 1.0, 0.0))
+
+
+def test_path_and_goal_distance_in_metres():
+    ctx = _corridor_ctx()
+    ends = np.array([[2.025, 1.025], [2.025, 1.525], [4.475, 1.025]])
+    tr = straight(ends, start=(0.5, 1.0))
+    p = PathDistanceCritic().score(tr, ctx)
+    g = GoalDistanceCritic().score(tr, ctx)
+    np.testing.assert_allclose(p.cost, [0.0, 0.5, 0.0], atol=1e-9)
+    # local goal cell (row 20, col 90) — the last plan cell — 4-connected steps × 0.05
+    np.testing.assert_allclose(g.cost, [50 * 0.05, 60 * 0.05, 0.05], atol=1e-9)
+    assert not any(m.any() for m in p.illegal.values())
+
+
+def test_local_goal_is_the_last_plan_cell_inside_the_window():
+    cm = blank(40, 40)  # 2 m × 2 m
+    cells = local_plan_cells(cm, np.array([[0.5, 1.0], [5.0, 1.0]]))
+    assert cells[-1, 1] == 39 and cells[0, 1] == 10
+
+
+def test_end_on_obstacle_or_enclosed_cell_is_unreachable_and_off_map_is_illegal():
+    ctx = _corridor_ctx()
+    costs = ctx.costmap.costs.copy()
+    costs[:, 60] = LETHAL  # wall across the corridor at x = 3.0..3.05
+    cm = Costmap(costs, ctx.costmap.geometry)
+    ctx = context(cm, TINY, pose=(0.5, 1.0, 0.0), path=ctx.global_path, goal=ctx.goal)
+    tr = straight(np.array([[3.025, 1.0], [2.0, 1.0], [6.0, 1.0]]), start=(0.5, 1.0))
+    g = GoalDistanceCritic().score(tr, ctx)
+    assert g.illegal["unreachable"].tolist() == [True, True, False]  # goal is behind the wall
+    assert g.illegal["off_map"].tolist() == [False, False, True]
+    p = PathDistanceCritic().score(tr, ctx)
+    assert p.illegal["unreachable"].tolist() == [True, False, False]
+    assert np.isinf(p.cost[0]) and np.isfinite(p.cost[1])
+
+
+def test_cells_under_the_current_footprint_let_the_wavefront_through():
+    cm = blank(40, 100)
+    costs = cm.costs.copy()
+    costs[:, 8:13] = INSCRIBED  # the robot stands in an inscribed band
+    cm = Costmap(costs, cm.geometry)
+    ctx = context(cm, PIONEER, pose=(0.5, 1.0, 0.0), path=np.array([[0.5, 1.0], [4.5, 1.0]]),
+                  goal=(4.5, 1.0, 0.0))
+    tr = straight(np.array([[1.0, 1.0]]), start=(0.5, 1.0))
+    assert np.isfinite(GoalDistanceCritic().score(tr, ctx).cost[0])
+    far = context(cm, PIONEER, pose=(1.5, 1.0, 0.0), path=ctx.global_path, goal=ctx.goal)
+    tr2 = straight(np.array([[0.3, 1.0]]), start=(1.5, 1.0))  # behind the band now
+    assert GoalDistanceCritic().score(tr2, far).illegal["unreachable"][0]
+
+
+def test_no_plan_in_window_is_unavailable():
+    ctx = context(blank(20, 20), TINY, pose=(0.5, 0.5, 0.0), path=np.array([[5.0, 5.0],
+                                                                          [6.0, 5.0]]))
+    with pytest.raises(CriticUnavailable):
+        PathDistanceCritic().prepare(ctx)
+
+
+# ---- occupancy --------------------------------------------------------------------------
+
+def _wall_world(robot):
+    geom = GridGeometry((80, 120), 0.05)
+    occ = np.zeros(geom.shape, dtype=bool)
+    occ[:, 100] = True  # wall at x = 5.0..5.05
+    return inflate(occ, geom, robot.inscribed_radius)
+
+
+def test_occupancy_free_motion_costs_nothing():
+    cm = _wall_world(PR2)
+    ctx = context(cm, PR2, pose=(1.0, 2.0, 0.0))
+    tr = straight(np.array([[2.0, 2.0]]), start=(1.0, 2.0))
+    s = OccupancyCritic().score(tr, ctx)
+    assert s.cost[0] == 0.0 and not s.illegal["collision"][0]
+
+
+def test_occupancy_collision_centre_and_footprint():
+    cm = _wall_world(PR2)
+    ctx = context(cm, PR2, pose=(3.0, 2.0, 0.0))
+    # centre ends 0.4 m from the wall: beyond the inscribed radius (0.325) but the square
+    # footprint (half-width 0.325, corner 0.46) sticks into the wall only when rotated 45°.
+    ends = np.array([[4.6, 2.0], [4.6, 2.0], [5.02, 2.0]])
+    tr = straight(ends, start=(3.0, 2.0))
+    poses = tr.poses.copy()
+    poses[1, :, 2] = np.pi / 4
+    tr = Trajectories(tr.twists, poses, tr.t)
+    full = OccupancyCritic().score(tr, ctx)
+    assert full.illegal["collision"].tolist() == [False, True, True]
+    centre_only = OccupancyCritic(footprint=False).score(tr, ctx)
+    assert centre_only.illegal["collision"].tolist() == [False, False, True]
+    assert 0 < full.cost[0] <= 252 * 0.05
+    raw = OccupancyCritic(meter_scoring=False).score(tr, ctx)
+    assert raw.cost[0] == pytest.approx(full.cost[0] / 0.05)
+
+
+def test_unknown_cells_are_illegal():
+    cm = blank(40, 40)
+    costs = cm.costs.copy()
+    costs[:, 30:] = UNKNOWN
+    ctx = context(Costmap(costs, cm.geometry), PR2, pose=(0.5, 1.0, 0.0))
+    tr = straight(np.array([[1.0, 1.0], [1.6, 1.0]]), start=(0.5, 1.0))
+    s = OccupancyCritic().score(tr, ctx)
+    assert s.illegal["unknown"].tolist() == [False, True]
+
+
+@pytest.mark.parametrize("robot", [PR2, PIONEER])
+def test_shortcuts_agree_with_checking_every_pose(robot):
+    cm = _wall_world(robot)
+    rng = np.random.default_rng(0)
+    starts = (3.9, 2.0)
+    ends = np.column_stack([rng.uniform(4.0, 5.2, 200), rng.uniform(0.5, 3.5, 200)])
+    tr = straight(ends, start=starts, steps=8)
+    poses = tr.poses.copy()
+    poses[..., 2] = rng.uniform(-np.pi, np.pi, (200, 1))
+    tr = Trajectories(tr.twists, poses, tr.t)
+    ctx = lambda: context(cm, robot, pose=(*starts, 0.0))  # noqa: E731 - fresh extras
+    exhaustive = OccupancyCritic(circumscribed_cost=0).score(tr, ctx())
+    masked = OccupancyCritic().score(tr, ctx())
+    thr = circumscribed_cost(robot.circumscribed_radius, robot.inscribed_radius, resolution=0.05)
+    threshold = OccupancyCritic(circumscribed_cost=thr).score(tr, ctx())
+    for other in (masked, threshold):
+        np.testing.assert_array_equal(other.cost, exhaustive.cost)
+        for k in exhaustive.illegal:
+            np.testing.assert_array_equal(other.illegal[k], exhaustive.illegal[k])
+    assert 0 < exhaustive.illegal["collision"].sum() < 200
+    assert np.isfinite(exhaustive.cost).sum() > 20
+
+
+# ---- heading ----------------------------------------------------------------------------
+
+def test_heading_difference_to_the_path_direction():
+    cm = blank(60, 60)
+    path = np.array([[0.5, 1.5], [2.5, 1.5]])
+    ctx = context(cm, TINY, pose=(0.5, 1.5, 0.0), path=path, goal=(2.5, 1.5, 0.0))
+    tr = straight(np.array([[1.0, 1.5]] * 3), start=(0.5, 1.5))
+    poses = tr.poses.copy()
+    poses[:, -1, 2] = [0.0, 0.5, -2.0]
+    s = HeadingCritic().score(Trajectories(tr.twists, poses, tr.t), ctx)
+    np.testing.assert_allclose(s.cost, [0.0, 0.5, 2.0], atol=1e-9)
+    # beside the path the desired direction points at the look-ahead point on it
+    side = straight(np.array([[1.0, 1.5 + 0.325]]), start=(0.5, 1.5))
+    got = HeadingCritic().score(side, ctx).cost[0]
+    assert got == pytest.approx(np.pi / 4, abs=0.05)
+
+
+def test_heading_near_the_end_uses_the_tangent():
+    cm = blank(60, 60)
+    ctx = context(cm, TINY, pose=(0.5, 1.5, 0.0), path=np.array([[0.5, 1.5], [1.5, 2.5]]),
+                  goal=(1.5, 2.5, 0.0))
+    tr = straight(np.array([[1.5, 2.5]]), start=(0.5, 1.5), yaw=np.pi / 4)
+    assert HeadingCritic().score(tr, ctx).cost[0] == pytest.approx(0.0, abs=1e-9)
+
+
+@pytest.mark.parametrize("critic", [PathDistanceCritic(), GoalDistanceCritic(),
+                                    OccupancyCritic(), HeadingCritic()])
+def test_permutation_equivariance(critic):
+    cm = _wall_world(PR2)
+    rng = np.random.default_rng(1)
+    ends = np.column_stack([rng.uniform(1.0, 5.5, 30), rng.uniform(0.5, 3.5, 30)])
+    tr = straight(ends, start=(3.0, 2.0))
+    path = np.array([[3.0, 2.0], [4.0, 2.0], [4.2, 3.8]])
+    perm = rng.permutation(30)
+    a = critic.score(tr, context(cm, PR2, pose=(3.0, 2.0, 0.0), path=path, goal=(4.2, 3.8, 0)))
+    b = critic.score(tr.take(perm),
+                     context(cm, PR2, pose=(3.0, 2.0, 0.0), path=path, goal=(4.2, 3.8, 0)))
+    np.testing.assert_array_equal(a.cost[perm], b.cost)
+    for k in a.illegal:
+        np.testing.assert_array_equal(np.asarray(a.illegal[k])[perm], b.illegal[k])

@@ -1,0 +1,137 @@
+"""Animations: GIF frames, FanFrame conversion, frame subsampling, bad input."""
+
+from __future__ import annotations
+
+import importlib.util
+from dataclasses import replace
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+import viz_synthetic as S
+from PIL import Image
+
+from socialnav.core.trajectories import Trajectories
+from socialnav.moo.selection import Selection
+from socialnav.viz.animation import FanFrame, animate_episode, frame_indices, to_fan_frame
+
+
+def _short_hallway(n: int = 24):
+    rec = S.hallway()
+    sl = slice(0, n)
+    return replace(
+        rec, times=rec.times[sl], robot_poses=rec.robot_poses[sl],
+        robot_twists=rec.robot_twists[sl], people_positions=rec.people_positions[sl],
+        people_velocities=rec.people_velocities[sl], collision_person=None,
+        collision_obstacle=None, status=None,
+    )
+
+
+def _fan(pose: np.ndarray, n: int = 9, steps: int = 6) -> FanFrame:
+    """Arcs of constant speed 0.5 m/s and turn rates in [-1, 1] rad/s over 1.5 s."""
+    w = np.linspace(-1.0, 1.0, n)
+    t = np.linspace(0.0, 1.5, steps)
+    yaw = pose[2] + w[:, None] * t
+    dx = np.cumsum(0.5 * np.cos(yaw) * (t[1] - t[0]), axis=1)
+    dy = np.cumsum(0.5 * np.sin(yaw) * (t[1] - t[0]), axis=1)
+    xy = np.stack([pose[0] + dx, pose[1] + dy], axis=-1)
+    fitness = np.abs(w)
+    fitness[0] = np.inf
+    return FanFrame(xy, fitness, np.isfinite(fitness), chosen=int(np.argmin(fitness)))
+
+
+def test_gif_has_one_frame_per_selected_sample(tmp_path):
+    rec = _short_hallway()
+    diags = [_fan(p) if i % 2 == 0 else None for i, p in enumerate(rec.robot_poses)]
+    out = animate_episode(rec, tmp_path / "a.gif", diags, stride=3, dpi=40)
+    expected = len(frame_indices(rec.num_steps, 3, 150))
+    with Image.open(out) as im:
+        assert im.format == "GIF"
+        assert im.n_frames == expected > 1
+        first = np.asarray(im.convert("RGB"), dtype=float)
+        im.seek(im.n_frames - 1)
+        last = np.asarray(im.convert("RGB"), dtype=float)
+    assert first.std() > 10.0
+    assert np.abs(first - last).mean() > 0.1  # the robot moved between frames
+
+
+def test_gif_without_diagnostics(tmp_path):
+    rec = _short_hallway(12)
+    out = animate_episode(rec, tmp_path / "b.gif", dpi=40)
+    with Image.open(out) as im:
+        assert im.n_frames == 12  # short episodes keep every sample
+
+
+def test_frame_indices_limits():
+    idx = frame_indices(1000, None, 150)
+    assert len(idx) <= 150 and idx[0] == 0 and idx[-1] == 999
+    assert np.all(np.diff(idx) >= 2)
+    np.testing.assert_array_equal(frame_indices(5, None, 150), np.arange(5))
+    np.testing.assert_array_equal(frame_indices(7, 3, 150), [0, 3, 6])
+    np.testing.assert_array_equal(frame_indices(8, 3, 150), [0, 3, 6, 7])
+    with pytest.raises(ValueError):
+        frame_indices(10, 0, 150)
+
+
+def test_fan_frame_shapes_and_relative_fitness():
+    f = FanFrame(np.zeros((4, 3)), [1.0, 2.0, 3.0, np.inf], [True, True, True, False], 0)
+    assert f.poses.shape == (4, 1, 2)  # end poses -> one-point rollouts, yaw dropped
+    np.testing.assert_allclose(f.relative_fitness(), [0.0, 0.5, 1.0, np.nan])
+    tie = FanFrame(np.zeros((2, 2)), [5.0, 5.0], [True, True])
+    np.testing.assert_array_equal(tie.relative_fitness(), [0.0, 0.0])
+    with pytest.raises(ValueError, match="out of range"):
+        FanFrame(np.zeros((2, 2)), [1.0, 2.0], [True, True], chosen=2)
+    with pytest.raises(ValueError, match="must both be"):
+        FanFrame(np.zeros((2, 5, 2)), [1.0], [True, True])
+    with pytest.raises(ValueError, match="NaN"):
+        FanFrame(np.full((2, 5, 2), np.nan), [1.0, 2.0], [True, True])
+
+
+def test_to_fan_frame_from_dict_and_planner_like_objects():
+    poses = np.random.default_rng(0).normal(size=(5, 4, 3))
+    d = to_fan_frame({"end_poses": poses[:, -1], "fitness": [3, 1, np.inf, 2, 4],
+                      "chosen_index": 1})
+    assert d.poses.shape == (5, 1, 2) and d.chosen == 1
+    np.testing.assert_array_equal(d.legal, [True, True, False, True, True])
+    trajs = Trajectories(np.zeros((5, 3)), poses, np.linspace(0, 1, 4))
+    sel = Selection(3, np.array([2.0, 2.0, np.inf, 1.0, 5.0]))
+    obj = SimpleNamespace(trajectories=trajs, selection=sel,
+                          evaluation=SimpleNamespace(legal=np.array([1, 1, 0, 1, 0], bool)))
+    o = to_fan_frame(obj)
+    np.testing.assert_allclose(o.poses, poses[..., :2])
+    assert o.chosen == 3 and o.legal.tolist() == [True, True, False, True, False]
+    assert to_fan_frame(None) is None
+    with pytest.raises(ValueError, match="cannot build a FanFrame"):
+        to_fan_frame({"fitness": [1.0]})
+
+
+def test_bad_input(tmp_path):
+    rec = _short_hallway(6)
+    empty = replace(
+        rec, times=np.zeros(0), robot_poses=np.zeros((0, 3)), robot_twists=np.zeros((0, 3)),
+        people_positions=np.zeros((0, 1, 2)), people_velocities=np.zeros((0, 1, 2)),
+        collision_person=None, collision_obstacle=None, status=None,
+    )
+    with pytest.raises(ValueError, match="no samples"):
+        animate_episode(empty, tmp_path / "e.gif")
+    with pytest.raises(ValueError, match="format"):
+        animate_episode(rec, tmp_path / "e.avi")
+    with pytest.raises(ValueError, match="fps"):
+        animate_episode(rec, tmp_path / "e.gif", fps=0)
+    with pytest.raises(ValueError, match="diagnostics"):
+        animate_episode(rec, tmp_path / "e.gif", [None] * 7)
+
+
+@pytest.mark.skipif(importlib.util.find_spec("imageio_ffmpeg") is not None,
+                    reason="imageio-ffmpeg installed")
+def test_mp4_without_ffmpeg_is_a_clear_error(tmp_path):
+    with pytest.raises(ImportError, match=r"socialnav\[video\]"):
+        animate_episode(_short_hallway(6), tmp_path / "v.mp4")
+
+
+def test_mp4_with_ffmpeg(tmp_path):
+    pytest.importorskip("imageio_ffmpeg")
+    out = animate_episode(_short_hallway(6), tmp_path / "v.mp4", dpi=40)
+    assert out.stat().st_size > 1000
+    with open(out, "rb") as fh:
+        assert b"ftyp" in fh.read(64)
