@@ -20,10 +20,15 @@ def _short_hallway(n: int = 24):
     rec = S.hallway()
     sl = slice(0, n)
     return replace(
-        rec, times=rec.times[sl], robot_poses=rec.robot_poses[sl],
-        robot_twists=rec.robot_twists[sl], people_positions=rec.people_positions[sl],
-        people_velocities=rec.people_velocities[sl], collision_person=None,
-        collision_obstacle=None, status=None,
+        rec,
+        times=rec.times[sl],
+        robot_poses=rec.robot_poses[sl],
+        robot_twists=rec.robot_twists[sl],
+        people_positions=rec.people_positions[sl],
+        people_velocities=rec.people_velocities[sl],
+        collision_person=None,
+        collision_obstacle=None,
+        status=None,
     )
 
 
@@ -43,7 +48,7 @@ def _fan(pose: np.ndarray, n: int = 9, steps: int = 6) -> FanFrame:
 def test_gif_has_one_frame_per_selected_sample(tmp_path):
     rec = _short_hallway()
     diags = [_fan(p) if i % 2 == 0 else None for i, p in enumerate(rec.robot_poses)]
-    out = animate_episode(rec, tmp_path / "a.gif", diags, stride=3, dpi=40)
+    out = animate_episode(rec, diags, tmp_path / "a.gif", stride=3, dpi=40)
     expected = len(frame_indices(rec.num_steps, 3, 150))
     with Image.open(out) as im:
         assert im.format == "GIF"
@@ -57,9 +62,11 @@ def test_gif_has_one_frame_per_selected_sample(tmp_path):
 
 def test_gif_without_diagnostics(tmp_path):
     rec = _short_hallway(12)
-    out = animate_episode(rec, tmp_path / "b.gif", dpi=40)
+    out = animate_episode(rec, path=tmp_path / "b.gif", dpi=40)
     with Image.open(out) as im:
         assert im.n_frames == 12  # short episodes keep every sample
+    # the path may also come second positionally
+    assert animate_episode(rec, str(tmp_path / "c.gif"), dpi=40) == tmp_path / "c.gif"
 
 
 def test_frame_indices_limits():
@@ -89,14 +96,18 @@ def test_fan_frame_shapes_and_relative_fitness():
 
 def test_to_fan_frame_from_dict_and_planner_like_objects():
     poses = np.random.default_rng(0).normal(size=(5, 4, 3))
-    d = to_fan_frame({"end_poses": poses[:, -1], "fitness": [3, 1, np.inf, 2, 4],
-                      "chosen_index": 1})
+    d = to_fan_frame(
+        {"end_poses": poses[:, -1], "fitness": [3, 1, np.inf, 2, 4], "chosen_index": 1}
+    )
     assert d.poses.shape == (5, 1, 2) and d.chosen == 1
     np.testing.assert_array_equal(d.legal, [True, True, False, True, True])
     trajs = Trajectories(np.zeros((5, 3)), poses, np.linspace(0, 1, 4))
     sel = Selection(3, np.array([2.0, 2.0, np.inf, 1.0, 5.0]))
-    obj = SimpleNamespace(trajectories=trajs, selection=sel,
-                          evaluation=SimpleNamespace(legal=np.array([1, 1, 0, 1, 0], bool)))
+    obj = SimpleNamespace(
+        trajectories=trajs,
+        selection=sel,
+        evaluation=SimpleNamespace(legal=np.array([1, 1, 0, 1, 0], bool)),
+    )
     o = to_fan_frame(obj)
     np.testing.assert_allclose(o.poses, poses[..., :2])
     assert o.chosen == 3 and o.legal.tolist() == [True, True, False, True, False]
@@ -108,9 +119,15 @@ def test_to_fan_frame_from_dict_and_planner_like_objects():
 def test_bad_input(tmp_path):
     rec = _short_hallway(6)
     empty = replace(
-        rec, times=np.zeros(0), robot_poses=np.zeros((0, 3)), robot_twists=np.zeros((0, 3)),
-        people_positions=np.zeros((0, 1, 2)), people_velocities=np.zeros((0, 1, 2)),
-        collision_person=None, collision_obstacle=None, status=None,
+        rec,
+        times=np.zeros(0),
+        robot_poses=np.zeros((0, 3)),
+        robot_twists=np.zeros((0, 3)),
+        people_positions=np.zeros((0, 1, 2)),
+        people_velocities=np.zeros((0, 1, 2)),
+        collision_person=None,
+        collision_obstacle=None,
+        status=None,
     )
     with pytest.raises(ValueError, match="no samples"):
         animate_episode(empty, tmp_path / "e.gif")
@@ -119,11 +136,14 @@ def test_bad_input(tmp_path):
     with pytest.raises(ValueError, match="fps"):
         animate_episode(rec, tmp_path / "e.gif", fps=0)
     with pytest.raises(ValueError, match="diagnostics"):
-        animate_episode(rec, tmp_path / "e.gif", [None] * 7)
+        animate_episode(rec, [None] * 7, tmp_path / "e.gif")
+    with pytest.raises(ValueError, match="output path"):
+        animate_episode(rec, [None] * 6)
 
 
-@pytest.mark.skipif(importlib.util.find_spec("imageio_ffmpeg") is not None,
-                    reason="imageio-ffmpeg installed")
+@pytest.mark.skipif(
+    importlib.util.find_spec("imageio_ffmpeg") is not None, reason="imageio-ffmpeg installed"
+)
 def test_mp4_without_ffmpeg_is_a_clear_error(tmp_path):
     with pytest.raises(ImportError, match=r"socialnav\[video\]"):
         animate_episode(_short_hallway(6), tmp_path / "v.mp4")

@@ -50,8 +50,15 @@ def test_transformed_panel_with_simplex_and_projection():
     legal = np.ones(30, bool)
     T = F / F.sum(axis=1, keepdims=True)
     fit = T @ np.array([0.2, 0.5, 0.3])
-    fig = plot_decision(F, legal, transformed=T, chosen=int(np.argmin(fit)), fitness=fit,
-                        pair=(0, 2), objective_names=["a", "b", "c"])
+    fig = plot_decision(
+        F,
+        legal,
+        transformed=T,
+        chosen=int(np.argmin(fit)),
+        fitness=fit,
+        pair=(0, 2),
+        objective_names=["a", "b", "c"],
+    )
     ax1, ax2 = fig.axes[:2]
     assert "projection of 3 objectives" in ax1.get_title()
     (star,) = _by_label(ax2, "chosen")
@@ -97,9 +104,9 @@ def test_tradeoff_one_marker_per_planner_with_error_bars():
     ]
     fig = plot_tradeoff(rows, "time [s]", "lateral [m]", x_better="min", y_better="max")
     ax = fig.axes[0]
-    handles, labels = ax.get_legend_handles_labels()
+    _handles, labels = ax.get_legend_handles_labels()
     assert labels == ["traditional", "PaCcET"]  # irl had only undefined values
-    pac = [c for c in ax.containers if c.get_label() == "PaCcET"][0]
+    pac = next(c for c in ax.containers if c.get_label() == "PaCcET")
     np.testing.assert_allclose(pac.lines[0].get_xydata(), [[14.4, 1.39], [20.0, 1.2]])
     assert pac.has_yerr and not pac.has_xerr
     assert "better" in ax.get_xlabel() and "better" in ax.get_ylabel()

@@ -101,8 +101,13 @@ def test_closest_approach_is_annotated_with_analytic_distance():
     poses = np.column_stack([x, np.full_like(x, -0.45), np.zeros_like(x)])
     ctx = SocialContext(people=(Person(0, (3.0, 0.45)),))
     rec = S.make_record(
-        poses, S.static_people([[3.0, 0.45]], 41), ctx, goal=(5.0, -0.45, 0.0),
-        family="hallway", scenario="t", walls=S.hallway_walls(),
+        poses,
+        S.static_people([[3.0, 0.45]], 41),
+        ctx,
+        goal=(5.0, -0.45, 0.0),
+        family="hallway",
+        scenario="t",
+        walls=S.hallway_walls(),
     )
     assert L.closest_approach(rec) == (20, 0, pytest.approx(0.9))
     ax = plot_episode(rec).axes[0]
@@ -157,9 +162,15 @@ def test_comparison_bad_input():
 def _empty(rec):
     z = np.zeros
     return replace(
-        rec, times=z(0), robot_poses=z((0, 3)), robot_twists=z((0, 3)),
-        people_positions=z((0, 1, 2)), people_velocities=z((0, 1, 2)), collision_person=None,
-        collision_obstacle=None, status=None,
+        rec,
+        times=z(0),
+        robot_poses=z((0, 3)),
+        robot_twists=z((0, 3)),
+        people_positions=z((0, 1, 2)),
+        people_velocities=z((0, 1, 2)),
+        collision_person=None,
+        collision_obstacle=None,
+        status=None,
     )
 
 
@@ -199,8 +210,13 @@ def test_region_of_interest_contains_everything_without_walls(points, margin):
     xy = np.array(points)
     poses = np.column_stack([xy, np.zeros(len(xy))])
     rec = S.make_record(
-        poses, np.zeros((len(xy), 0, 2)), SocialContext(), goal=(0.0, 0.0, 0.0),
-        family="hallway", scenario="p", walls=np.zeros((0, 2, 2)),
+        poses,
+        np.zeros((len(xy), 0, 2)),
+        SocialContext(),
+        goal=(0.0, 0.0, 0.0),
+        family="hallway",
+        scenario="p",
+        walls=np.zeros((0, 2, 2)),
     )
     x0, x1, y0, y1 = L.region_of_interest([rec], margin=margin)
     assert x0 <= xy[:, 0].min() - margin + 1e-9 and x1 >= xy[:, 0].max() + margin - 1e-9

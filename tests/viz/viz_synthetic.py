@@ -92,8 +92,14 @@ def hallway(planner: str = "paccet") -> EpisodeRecord:
     walker = np.column_stack([6.0 - 0.5 * t, np.full(T, 0.45)])[:, None, :]
     ctx = SocialContext(people=(Person(0, (6.0, 0.45), (-0.5, 0.0), np.pi),))
     return make_record(
-        poses, walker, ctx, goal=(5.5, -0.45, 0.0), family="hallway",
-        scenario="hallway_passing", planner=planner, walls=hallway_walls(),
+        poses,
+        walker,
+        ctx,
+        goal=(5.5, -0.45, 0.0),
+        family="hallway",
+        scenario="hallway_passing",
+        planner=planner,
+        walls=hallway_walls(),
     )
 
 
@@ -102,15 +108,23 @@ def group(planner: str = "paccet") -> EpisodeRecord:
     c, r = np.array([12.5, 12.5]), 0.9
     ang = np.deg2rad([90.0, 180.0, 270.0])
     pos = c + r * np.column_stack([np.cos(ang), np.sin(ang)])
-    people = tuple(Person(i, tuple(p), yaw=float(a + np.pi)) for i, (p, a) in
-                   enumerate(zip(pos, ang, strict=True)))
+    people = tuple(
+        Person(i, tuple(p), yaw=float(a + np.pi))
+        for i, (p, a) in enumerate(zip(pos, ang, strict=True))
+    )
     ctx = SocialContext(people=people, groups=(Group((0, 1, 2)),))
     end = (13.4, 12.5) if planner != "traditional" else (13.0, 12.6)
     poses = resample(np.array([[20.0, 12.5], [16.0, 12.9], end]), 0.5)
     poses[-5:, 2] = np.pi  # final turn to face the centre
     return make_record(
-        poses, static_people(pos, poses.shape[0]), ctx, goal=(12.5, 12.5, np.pi),
-        target=(13.4, 12.5, np.pi), family="group", scenario="group_join", planner=planner,
+        poses,
+        static_people(pos, poses.shape[0]),
+        ctx,
+        goal=(12.5, 12.5, np.pi),
+        target=(13.4, 12.5, np.pi),
+        family="group",
+        scenario="group_join",
+        planner=planner,
     )
 
 
@@ -132,8 +146,14 @@ def queue(planner: str = "paccet") -> EpisodeRecord:
     if planner != "traditional":
         poses[-8:, 2] = np.pi / 2
     return make_record(
-        poses, static_people(pos, poses.shape[0]), ctx, goal=(12.5, 19.5, np.pi / 2),
-        target=(12.5, 17.0, np.pi / 2), family="queue", scenario="queue_line", planner=planner,
+        poses,
+        static_people(pos, poses.shape[0]),
+        ctx,
+        goal=(12.5, 19.5, np.pi / 2),
+        target=(12.5, 17.0, np.pi / 2),
+        family="queue",
+        scenario="queue_line",
+        planner=planner,
         obstacles=(desk((12.5, 20.3)),),
     )
 
@@ -149,8 +169,13 @@ def gallery(planner: str = "paccet") -> EpisodeRecord:
         line = np.array([[7.0, 23.8], [10.5, 22.2], [13.0, 21.3], [15.5, 22.2], [19.0, 23.8]])
     poses = resample(line, 0.5)
     return make_record(
-        poses, static_people(viewer, poses.shape[0]), ctx, goal=(19.0, 23.8, 0.0),
-        family="gallery_activity", scenario="gallery_activity", planner=planner,
+        poses,
+        static_people(viewer, poses.shape[0]),
+        ctx,
+        goal=(19.0, 23.8, 0.0),
+        family="gallery_activity",
+        scenario="gallery_activity",
+        planner=planner,
         waypoint=np.array([13.0, 21.3]),
     )
 

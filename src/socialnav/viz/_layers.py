@@ -157,15 +157,22 @@ def draw_map(ax: Axes, record: EpisodeRecord) -> list[Any]:
     artists: list[Any] = []
     if record.walls.size:
         lc = LineCollection(
-            record.walls, colors=COLORS["wall"], linewidths=3.0, capstyle="projecting",
-            zorder=3, label="wall",
+            record.walls,
+            colors=COLORS["wall"],
+            linewidths=3.0,
+            capstyle="projecting",
+            zorder=3,
+            label="wall",
         )
         artists.append(ax.add_collection(lc, autolim=False))
     if record.obstacles:
         pc = PolyCollection(
             [np.asarray(o, dtype=float) for o in record.obstacles],
-            facecolors=COLORS["obstacle"], edgecolors=COLORS["wall"], linewidths=1.0,
-            zorder=3, label="obstacle",
+            facecolors=COLORS["obstacle"],
+            edgecolors=COLORS["wall"],
+            linewidths=1.0,
+            zorder=3,
+            label="obstacle",
         )
         artists.append(ax.add_collection(pc, autolim=False))
     for art in record.context.artworks:
@@ -175,8 +182,13 @@ def draw_map(ax: Axes, record: EpisodeRecord) -> list[Any]:
         # Inset by the wall's half-thickness so the artwork shows in front of the wall line.
         ends = np.stack([c - 0.5 * art.width * t, c + 0.5 * art.width * t]) + 0.08 * n
         (line,) = ax.plot(
-            ends[:, 0], ends[:, 1], color=COLORS["artwork"], linewidth=6.0,
-            solid_capstyle="butt", zorder=4, label="artwork",
+            ends[:, 0],
+            ends[:, 1],
+            color=COLORS["artwork"],
+            linewidth=6.0,
+            solid_capstyle="butt",
+            zorder=4,
+            label="artwork",
         )
         artists.append(line)
     return artists
@@ -190,7 +202,10 @@ def draw_social(ax: Axes, record: EpisodeRecord) -> dict[str, list[Any]]:
     ``queue_line``.
     """
     out: dict[str, list[Any]] = {
-        "o_space": [], "group_circle": [], "activity_space": [], "queue_band": [],
+        "o_space": [],
+        "group_circle": [],
+        "activity_space": [],
+        "queue_band": [],
         "queue_line": [],
     }
     ctx = record.context
@@ -199,8 +214,13 @@ def draw_social(ax: Axes, record: EpisodeRecord) -> dict[str, list[Any]]:
         if record.family == "queue":
             line = np.vstack([line, record.target[:2]])
         (ln,) = ax.plot(
-            line[:, 0], line[:, 1], color=COLORS["queue_line"], linestyle=(0, (1, 2)),
-            linewidth=1.0, zorder=2, label="queue line",
+            line[:, 0],
+            line[:, 1],
+            color=COLORS["queue_line"],
+            linestyle=(0, (1, 2)),
+            linewidth=1.0,
+            zorder=2,
+            label="queue line",
         )
         out["queue_line"].append(ln)
     spaces = social_spaces()
@@ -214,12 +234,24 @@ def draw_social(ax: Axes, record: EpisodeRecord) -> dict[str, list[Any]]:
         except (ValueError, AttributeError):
             continue
         ring = Circle(
-            center, radius, fill=False, edgecolor=COLORS["group_circle"], linestyle="--",
-            linewidth=0.9, zorder=2, label="group circle",
+            center,
+            radius,
+            fill=False,
+            edgecolor=COLORS["group_circle"],
+            linestyle="--",
+            linewidth=0.9,
+            zorder=2,
+            label="group circle",
         )
         disc = Circle(
-            oc, orad, facecolor=COLORS["o_space"], alpha=0.28, edgecolor=COLORS["o_space"],
-            linewidth=1.2, zorder=1.5, label="o-space",
+            oc,
+            orad,
+            facecolor=COLORS["o_space"],
+            alpha=0.28,
+            edgecolor=COLORS["o_space"],
+            linewidth=1.2,
+            zorder=1.5,
+            label="o-space",
         )
         out["group_circle"].append(ax.add_patch(ring))
         out["o_space"].append(ax.add_patch(disc))
@@ -232,9 +264,15 @@ def draw_social(ax: Axes, record: EpisodeRecord) -> dict[str, list[Any]]:
             except (ValueError, AttributeError):
                 continue
             patch = Polygon(
-                np.asarray(poly, dtype=float), closed=True, facecolor=COLORS["activity"],
-                alpha=0.25, edgecolor=COLORS["activity"], hatch="///", linewidth=1.0,
-                zorder=1.5, label="activity space",
+                np.asarray(poly, dtype=float),
+                closed=True,
+                facecolor=COLORS["activity"],
+                alpha=0.25,
+                edgecolor=COLORS["activity"],
+                hatch="///",
+                linewidth=1.0,
+                zorder=1.5,
+                label="activity space",
             )
             out["activity_space"].append(ax.add_patch(patch))
     for q in ctx.queues:
@@ -244,9 +282,14 @@ def draw_social(ax: Axes, record: EpisodeRecord) -> dict[str, list[Any]]:
             continue
         if len(bands):
             pc = PolyCollection(
-                [np.asarray(b, dtype=float) for b in bands], facecolors=COLORS["queue_band"],
-                alpha=0.18, edgecolors=COLORS["queue_band"], linewidths=0.8, hatch="xx",
-                zorder=1.5, label="queue cut-in band",
+                [np.asarray(b, dtype=float) for b in bands],
+                facecolors=COLORS["queue_band"],
+                alpha=0.18,
+                edgecolors=COLORS["queue_band"],
+                linewidths=0.8,
+                hatch="xx",
+                zorder=1.5,
+                label="queue cut-in band",
             )
             out["queue_band"].append(ax.add_collection(pc, autolim=False))
     return out
@@ -277,8 +320,13 @@ def draw_people(
         moving = path_length(track)[-1] / dur > STANDING_SPEED
         if moving and tracks:
             (ln,) = ax.plot(
-                track[:, 0], track[:, 1], color=color, linestyle=":", linewidth=1.8,
-                zorder=5, label="person track",
+                track[:, 0],
+                track[:, 1],
+                color=color,
+                linestyle=":",
+                linewidth=1.8,
+                zorder=5,
+                label="person track",
             )
             out["track"].append(ln)
             # Direction arrows along the track (the paper marks walking directions so).
@@ -289,9 +337,18 @@ def draw_people(
                 d = 0.35 * d / np.maximum(np.linalg.norm(d, axis=1, keepdims=True), 1e-9)
                 out["arrow"].append(
                     ax.quiver(
-                        track[mid, 0], track[mid, 1], d[:, 0], d[:, 1], angles="xy",
-                        scale_units="xy", scale=1.0, color=color, width=0.005,
-                        headwidth=4.0, headlength=4.5, zorder=7,
+                        track[mid, 0],
+                        track[mid, 1],
+                        d[:, 0],
+                        d[:, 1],
+                        angles="xy",
+                        scale_units="xy",
+                        scale=1.0,
+                        color=color,
+                        width=0.005,
+                        headwidth=4.0,
+                        headlength=4.5,
+                        zorder=7,
                     )
                 )
         if moving:
@@ -305,15 +362,26 @@ def draw_people(
     if moved.any():
         out["body"].append(
             ax.scatter(
-                starts[moved, 0], starts[moved, 1], s=28, facecolors="white",
-                edgecolors=color, linewidths=1.2, zorder=6, label="person start",
+                starts[moved, 0],
+                starts[moved, 1],
+                s=28,
+                facecolors="white",
+                edgecolors=color,
+                linewidths=1.2,
+                zorder=6,
+                label="person start",
             )
         )
     bodies = [Circle(e, r) for e, r, h in zip(ends, record.people_radii, have, strict=True) if h]
     if bodies:
         pc = PatchCollection(
-            bodies, facecolors=color, edgecolors="black", linewidths=0.6, alpha=0.85,
-            zorder=6, label="person",
+            bodies,
+            facecolors=color,
+            edgecolors="black",
+            linewidths=0.6,
+            alpha=0.85,
+            zorder=6,
+            label="person",
         )
         out["body"].append(ax.add_collection(pc, autolim=False))
     arrow_ok = have & np.all(np.isfinite(heads), axis=1)
@@ -322,22 +390,40 @@ def draw_people(
         vec = heads[arrow_ok] * 0.55
         out["arrow"].append(
             ax.quiver(
-                tails[:, 0], tails[:, 1], vec[:, 0], vec[:, 1], angles="xy", scale_units="xy",
-                scale=1.0, color=color, width=0.006, headwidth=3.5, headlength=4.0,
+                tails[:, 0],
+                tails[:, 1],
+                vec[:, 0],
+                vec[:, 1],
+                angles="xy",
+                scale_units="xy",
+                scale=1.0,
+                color=color,
+                width=0.006,
+                headwidth=3.5,
+                headlength=4.0,
                 zorder=7,
             )
         )
     if end_space:
         circles = [Circle(e, PERSONAL_SPACE) for e, h in zip(ends, have, strict=True) if h]
         pc = PatchCollection(
-            circles, facecolors=color, edgecolors=color, alpha=0.06, linewidths=0.8,
-            zorder=1.2, label=f"personal space ({PERSONAL_SPACE:g} m)",
+            circles,
+            facecolors=color,
+            edgecolors=color,
+            alpha=0.06,
+            linewidths=0.8,
+            zorder=1.2,
+            label=f"personal space ({PERSONAL_SPACE:g} m)",
         )
         out["personal_space"].append(ax.add_collection(pc, autolim=False))
         # The fill is faint; a separate outline keeps the boundary readable.
         rings = PatchCollection(
             [Circle(e, PERSONAL_SPACE) for e, h in zip(ends, have, strict=True) if h],
-            facecolors="none", edgecolors=color, alpha=0.45, linewidths=0.8, linestyle="--",
+            facecolors="none",
+            edgecolors=color,
+            alpha=0.45,
+            linewidths=0.8,
+            linestyle="--",
             zorder=1.2,
         )
         out["personal_space"].append(ax.add_collection(rings, autolim=False))
@@ -359,7 +445,12 @@ def draw_robot_path(
     out: dict[str, list[Any]] = {"path": [], "footprint": [], "arrow": [], "collision": []}
     xy = record.robot_xy
     (ln,) = ax.plot(
-        xy[:, 0], xy[:, 1], color=color, linestyle=linestyle, linewidth=linewidth, zorder=8,
+        xy[:, 0],
+        xy[:, 1],
+        color=color,
+        linestyle=linestyle,
+        linewidth=linewidth,
+        zorder=8,
         label=label,
     )
     out["path"].append(ln)
@@ -372,12 +463,21 @@ def draw_robot_path(
     if fp.ndim == 2 and fp.shape[0] >= 3 and fp.shape[1] == 2:
         polys = footprints(record.robot_poses[idx], fp)
         pc = PolyCollection(
-            polys, facecolors="none", edgecolors=color, linewidths=0.9, alpha=0.55,
-            linestyles=linestyle, zorder=7,
+            polys,
+            facecolors="none",
+            edgecolors=color,
+            linewidths=0.9,
+            alpha=0.55,
+            linestyles=linestyle,
+            zorder=7,
         )
         out["footprint"].append(ax.add_collection(pc, autolim=False))
         last = PolyCollection(
-            polys[-1:], facecolors=color, edgecolors=color, alpha=0.3, linewidths=1.4,
+            polys[-1:],
+            facecolors=color,
+            edgecolors=color,
+            alpha=0.3,
+            linewidths=1.4,
             zorder=7,
         )
         out["footprint"].append(ax.add_collection(last, autolim=False))
@@ -385,17 +485,32 @@ def draw_robot_path(
     size = max(0.35, 0.8 * float(record.robot_radius))
     out["arrow"].append(
         ax.quiver(
-            xy[idx, 0], xy[idx, 1], size * np.cos(yaw), size * np.sin(yaw), angles="xy",
-            scale_units="xy", scale=1.0, color=color, width=0.005, headwidth=3.5,
-            headlength=4.0, zorder=9,
+            xy[idx, 0],
+            xy[idx, 1],
+            size * np.cos(yaw),
+            size * np.sin(yaw),
+            angles="xy",
+            scale_units="xy",
+            scale=1.0,
+            color=color,
+            width=0.005,
+            headwidth=3.5,
+            headlength=4.0,
+            zorder=9,
         )
     )
     hit = np.asarray(record.collision_person, bool) | np.asarray(record.collision_obstacle, bool)
     if hit.any():
         out["collision"].append(
             ax.scatter(
-                xy[hit, 0], xy[hit, 1], marker="x", s=40, color=COLORS["collision"],
-                linewidths=1.5, zorder=10, label="collision",
+                xy[hit, 0],
+                xy[hit, 1],
+                marker="x",
+                s=40,
+                color=COLORS["collision"],
+                linewidths=1.5,
+                zorder=10,
+                label="collision",
             )
         )
     return out
@@ -416,14 +531,25 @@ def draw_closest_approach(
     artists: list[Any] = [
         ax.add_patch(
             Circle(
-                p, PERSONAL_SPACE, fill=False, edgecolor=color, linestyle=(0, (4, 2)),
-                linewidth=1.1, alpha=0.8, zorder=6,
+                p,
+                PERSONAL_SPACE,
+                fill=False,
+                edgecolor=color,
+                linestyle=(0, (4, 2)),
+                linewidth=1.1,
+                alpha=0.8,
+                zorder=6,
             )
         ),
         ax.add_patch(
             Circle(
-                p, float(record.people_radii[k]), facecolor="none", edgecolor=COLORS["person"],
-                linewidth=1.0, linestyle="--", zorder=6,
+                p,
+                float(record.people_radii[k]),
+                facecolor="none",
+                edgecolor=COLORS["person"],
+                linewidth=1.0,
+                linestyle="--",
+                zorder=6,
             )
         ),
     ]
@@ -432,18 +558,27 @@ def draw_closest_approach(
         poly = footprints(record.robot_poses[t : t + 1], fp)[0]
         artists.append(
             ax.add_patch(
-                Polygon(poly, closed=True, facecolor="none", edgecolor=color, linewidth=1.6,
-                        zorder=9)
+                Polygon(
+                    poly, closed=True, facecolor="none", edgecolor=color, linewidth=1.6, zorder=9
+                )
             )
         )
     (seg,) = ax.plot([p[0], r[0]], [p[1], r[1]], color=color, linewidth=0.9, zorder=9)
     mid = 0.5 * (p + r)
     txt = ax.annotate(
-        f"{dist:.2f} m", mid, xytext=(4, 4 + 12 * label_slot), textcoords="offset points",
+        f"{dist:.2f} m",
+        mid,
+        xytext=(4, 4 + 12 * label_slot),
+        textcoords="offset points",
         fontsize=8,
-        color=color, zorder=11,
-        bbox={"boxstyle": "round,pad=0.15", "facecolor": "white", "edgecolor": "none",
-              "alpha": 0.8},
+        color=color,
+        zorder=11,
+        bbox={
+            "boxstyle": "round,pad=0.15",
+            "facecolor": "white",
+            "edgecolor": "none",
+            "alpha": 0.8,
+        },
     )
     artists.extend([seg, txt])
     return artists
@@ -465,43 +600,85 @@ def draw_goals(ax: Axes, record: EpisodeRecord, *, start: bool = True) -> dict[s
     if start:
         out["start"].append(
             ax.scatter(
-                [record.start[0]], [record.start[1]], marker="o", s=60, facecolors="white",
-                edgecolors=COLORS["start"], linewidths=1.6, zorder=12, label="start",
+                [record.start[0]],
+                [record.start[1]],
+                marker="o",
+                s=60,
+                facecolors="white",
+                edgecolors=COLORS["start"],
+                linewidths=1.6,
+                zorder=12,
+                label="start",
             )
         )
     out["goal"].append(
         ax.scatter(
-            [record.goal[0]], [record.goal[1]], marker="*", s=260, color=COLORS["goal"],
-            edgecolors="black", linewidths=0.6, zorder=12, label="given goal",
+            [record.goal[0]],
+            [record.goal[1]],
+            marker="*",
+            s=260,
+            color=COLORS["goal"],
+            edgecolors="black",
+            linewidths=0.6,
+            zorder=12,
+            label="given goal",
         )
     )
     tgt = np.asarray(record.target, dtype=float)
     if np.linalg.norm(tgt[:2] - record.goal[:2]) > 1e-6:
         out["target"].append(
             ax.scatter(
-                [tgt[0]], [tgt[1]], marker="D", s=80, color=COLORS["target"],
-                edgecolors="black", linewidths=1.0, zorder=12, label=target_label(record.family),
+                [tgt[0]],
+                [tgt[1]],
+                marker="D",
+                s=80,
+                color=COLORS["target"],
+                edgecolors="black",
+                linewidths=1.0,
+                zorder=12,
+                label=target_label(record.family),
             )
         )
         out["target"].append(
             ax.quiver(
-                [tgt[0]], [tgt[1]], [0.5 * np.cos(tgt[2])], [0.5 * np.sin(tgt[2])],
-                angles="xy", scale_units="xy", scale=1.0, color="black", width=0.004,
+                [tgt[0]],
+                [tgt[1]],
+                [0.5 * np.cos(tgt[2])],
+                [0.5 * np.sin(tgt[2])],
+                angles="xy",
+                scale_units="xy",
+                scale=1.0,
+                color="black",
+                width=0.004,
                 zorder=12,
             )
         )
         out["target"].append(
             ax.add_patch(
-                Circle(tgt[:2], record.goal_tolerance, fill=False, edgecolor="black",
-                       linestyle=":", linewidth=0.9, zorder=11)
+                Circle(
+                    tgt[:2],
+                    record.goal_tolerance,
+                    fill=False,
+                    edgecolor="black",
+                    linestyle=":",
+                    linewidth=0.9,
+                    zorder=11,
+                )
             )
         )
     if record.waypoint is not None:
         w = np.asarray(record.waypoint, dtype=float).reshape(2)
         out["waypoint"].append(
             ax.scatter(
-                [w[0]], [w[1]], marker="^", s=90, color=COLORS["waypoint"], edgecolors="black",
-                linewidths=1.0, zorder=12, label="social waypoint",
+                [w[0]],
+                [w[1]],
+                marker="^",
+                s=90,
+                color=COLORS["waypoint"],
+                edgecolors="black",
+                linewidths=1.0,
+                zorder=12,
+                label="social waypoint",
             )
         )
     return out

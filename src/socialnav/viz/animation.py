@@ -14,6 +14,7 @@ Frames are rendered with the Agg canvas and written with Pillow (GIF) or the ffm
 from __future__ import annotations
 
 import math
+import os
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -127,7 +128,9 @@ def to_fan_frame(diag: Any) -> FanFrame | None:
     """
     if diag is None or isinstance(diag, FanFrame):
         return diag
-    poses = _lookup(diag, "poses", "xy", "trajectories.poses", "end_poses", "trajectories.end_poses")
+    poses = _lookup(
+        diag, "poses", "xy", "trajectories.poses", "end_poses", "trajectories.end_poses"
+    )
     fitness = _lookup(diag, "fitness", "selection.fitness", "scores")
     if poses is None or fitness is None:
         raise ValueError(
@@ -140,8 +143,12 @@ def to_fan_frame(diag: Any) -> FanFrame | None:
     if legal is None:
         legal = np.isfinite(fitness)
     chosen = _lookup(diag, "chosen", "chosen_index", "selection.index", "index", "best_index")
-    return FanFrame(np.asarray(poses, dtype=float), fitness, np.asarray(legal, dtype=bool),
-                    None if chosen is None else int(chosen))
+    return FanFrame(
+        np.asarray(poses, dtype=float),
+        fitness,
+        np.asarray(legal, dtype=bool),
+        None if chosen is None else int(chosen),
+    )
 
 
 def _thin(n: int, chosen: int | None, limit: int) -> np.ndarray:
@@ -179,8 +186,8 @@ def _format(path: Path, fmt: str | None) -> str:
 
 def animate_episode(
     record: EpisodeRecord,
-    path: str | Path,
     diagnostics: Sequence[Any] | None = None,
+    path: str | os.PathLike[str] | None = None,
     *,
     fps: float = 10.0,
     fmt: Literal["gif", "mp4"] | None = None,
@@ -191,7 +198,10 @@ def animate_episode(
     show_social: bool = True,
     margin: float = 1.0,
 ) -> Path:
-    """Render ``record`` as an animation at ``path`` and return the path.
+    """Render ``record`` as an animation at ``path`` (required) and return the path.
+
+    Call as ``animate_episode(record, diagnostics, path)`` or
+    ``animate_episode(record, path=...)``; ``animate_episode(record, path)`` also works.
 
     ``diagnostics[i]`` (optional) belongs to sample ``i`` of the record: ``None``, a
     :class:`FanFrame` or anything :func:`to_fan_frame` understands; the candidate fan is drawn
@@ -201,10 +211,16 @@ def animate_episode(
     defaults to the path suffix: ``gif`` (Pillow) or ``mp4`` (needs ``imageio-ffmpeg``,
     ``pip install 'socialnav[video]'``; ``ImportError`` otherwise).
 
-    Raises ``ValueError`` on an empty record, an unknown format, ``fps <= 0`` or
-    diagnostics longer than the record.
+    Raises ``ValueError`` on an empty record, a missing path, an unknown format, ``fps <= 0``
+    or diagnostics longer than the record.
     """
     L.check_record(record)
+    if isinstance(diagnostics, str | os.PathLike):
+        if path is not None:
+            raise ValueError("diagnostics must be a sequence, got a path (and a path was given)")
+        diagnostics, path = None, diagnostics
+    if path is None:
+        raise ValueError("animate_episode needs an output path (.gif or .mp4)")
     out = Path(path)
     kind = _format(out, fmt)
     if not fps > 0:
@@ -227,8 +243,15 @@ def animate_episode(
         to_fan_frame(diagnostics[i]) if diagnostics is not None and i < len(diagnostics) else None
         for i in frames
     ]
-    images = _render(record, frames, fans, dpi=dpi, show_social=show_social, margin=margin,
-                     max_candidates=max_candidates)
+    images = _render(
+        record,
+        frames,
+        fans,
+        dpi=dpi,
+        show_social=show_social,
+        margin=margin,
+        max_candidates=max_candidates,
+    )
     out.parent.mkdir(parents=True, exist_ok=True)
     if kind == "gif":
         _write_gif(images, out, fps)
@@ -248,8 +271,9 @@ def _render(
     max_candidates: int,
 ) -> list[np.ndarray]:
     """RGB frames ``(H, W, 3)`` uint8, all the same size."""
-    style = planner_style(None if record.meta.get("planner") is None
-                          else str(record.meta["planner"]))
+    style = planner_style(
+        None if record.meta.get("planner") is None else str(record.meta["planner"])
+    )
     roi = L.region_of_interest([record], margin=margin)
     w, h = L.figure_size(roi, width=6.0, legend_right=False)
     fig = L.new_figure(w + (1.0 if any(f is not None for f in fans) else 0.0), h - 1.1)
@@ -261,8 +285,14 @@ def _render(
         L.draw_social(ax, record)
     ax.plot(*record.robot_xy.T, color=style.color, alpha=0.25, linewidth=1.0, zorder=4)
     for k in range(record.people_positions.shape[1]):
-        ax.plot(*record.people_positions[:, k].T, color=COLORS["person"], linestyle=":",
-                alpha=0.5, linewidth=1.0, zorder=4)
+        ax.plot(
+            *record.people_positions[:, k].T,
+            color=COLORS["person"],
+            linestyle=":",
+            alpha=0.5,
+            linewidth=1.0,
+            zorder=4,
+        )
     L.draw_goals(ax, record)
     L.finish_map_axes(ax, roi)
     title = ax.set_title("", fontsize=9)
@@ -270,18 +300,50 @@ def _render(
     fp = np.asarray(record.robot_footprint, dtype=float)
     if fp.ndim != 2 or fp.shape[0] < 3:
         fp = record.robot_radius * np.array([[1, 0], [0, 1], [-1, 0], [0, -1]], dtype=float)
-    body = ax.add_patch(Polygon(fp, closed=True, facecolor=style.color, alpha=0.45,
-                                edgecolor=style.color, linewidth=1.5, zorder=10))
-    (trail,) = ax.plot([], [], color=style.color, linestyle=style.linestyle, linewidth=2.0,
-                       zorder=9)
+    body = ax.add_patch(
+        Polygon(
+            fp,
+            closed=True,
+            facecolor=style.color,
+            alpha=0.45,
+            edgecolor=style.color,
+            linewidth=1.5,
+            zorder=10,
+        )
+    )
+    (trail,) = ax.plot(
+        [], [], color=style.color, linestyle=style.linestyle, linewidth=2.0, zorder=9
+    )
     (nose,) = ax.plot([], [], color="black", linewidth=1.5, zorder=11)
     K = record.people_positions.shape[1]
-    bodies = [ax.add_patch(Circle((0, 0), float(record.people_radii[k]),
-                                  facecolor=COLORS["person"], edgecolor="black",
-                                  linewidth=0.6, alpha=0.85, zorder=10)) for k in range(K)]
-    spaces = [ax.add_patch(Circle((0, 0), L.PERSONAL_SPACE, facecolor=COLORS["person"],
-                                  alpha=0.07, edgecolor=COLORS["person"], linewidth=0.8,
-                                  zorder=2)) for k in range(K)]
+    bodies = [
+        ax.add_patch(
+            Circle(
+                (0, 0),
+                float(record.people_radii[k]),
+                facecolor=COLORS["person"],
+                edgecolor="black",
+                linewidth=0.6,
+                alpha=0.85,
+                zorder=10,
+            )
+        )
+        for k in range(K)
+    ]
+    spaces = [
+        ax.add_patch(
+            Circle(
+                (0, 0),
+                L.PERSONAL_SPACE,
+                facecolor=COLORS["person"],
+                alpha=0.07,
+                edgecolor=COLORS["person"],
+                linewidth=0.8,
+                zorder=2,
+            )
+        )
+        for k in range(K)
+    ]
     cmap = colormaps[FAN_CMAP]
     fan = LineCollection([], linewidths=0.8, zorder=8)
     ax.add_collection(fan, autolim=False)
@@ -289,7 +351,10 @@ def _render(
     (best,) = ax.plot([], [], color="black", linewidth=2.4, zorder=9.5)
     if any(f is not None for f in fans):
         sm = fig.colorbar(
-            _scalar_mappable(cmap), ax=ax, fraction=0.04, pad=0.02,
+            _scalar_mappable(cmap),
+            ax=ax,
+            fraction=0.04,
+            pad=0.02,
             label="relative fitness (0 = best legal)",
         )
         sm.ax.tick_params(labelsize=7)
@@ -302,8 +367,10 @@ def _render(
         body.set_edgecolor(COLORS["collision"] if hit[i] else style.color)
         trail.set_data(record.robot_xy[: i + 1, 0], record.robot_xy[: i + 1, 1])
         reach = max(0.3, float(record.robot_radius))
-        nose.set_data([pose[0], pose[0] + reach * np.cos(pose[2])],
-                      [pose[1], pose[1] + reach * np.sin(pose[2])])
+        nose.set_data(
+            [pose[0], pose[0] + reach * np.cos(pose[2])],
+            [pose[1], pose[1] + reach * np.sin(pose[2])],
+        )
         for k in range(K):
             p = record.people_positions[i, k]
             visible = bool(np.all(np.isfinite(p)))
@@ -344,8 +411,9 @@ def _update_fan(
         return
     idx = _thin(frame.poses.shape[0], frame.chosen, max_candidates)
     rel = frame.relative_fitness()[idx]
-    colors = np.where(np.isnan(rel)[:, None], np.array([[0.72, 0.72, 0.72, 0.5]]),
-                      cmap(np.nan_to_num(rel)))
+    colors = np.where(
+        np.isnan(rel)[:, None], np.array([[0.72, 0.72, 0.72, 0.5]]), cmap(np.nan_to_num(rel))
+    )
     fan.set_segments(list(frame.poses[idx]))
     fan.set_colors(colors)
     fan.set_linewidths(np.where(np.isnan(rel), 0.5, 0.9))
@@ -363,18 +431,27 @@ def _write_gif(images: list[np.ndarray], path: Path, fps: float) -> None:
     from PIL import Image
 
     # One adaptive palette per frame keeps the fan's colours; 128 colours keep files small.
-    pil = [Image.fromarray(im).quantize(colors=128, method=Image.Quantize.MEDIANCUT)
-           for im in images]
-    pil[0].save(path, format="GIF", save_all=True, append_images=pil[1:],
-                duration=max(20, round(1000.0 / fps)), loop=0, optimize=False)
+    pil = [
+        Image.fromarray(im).quantize(colors=128, method=Image.Quantize.MEDIANCUT) for im in images
+    ]
+    pil[0].save(
+        path,
+        format="GIF",
+        save_all=True,
+        append_images=pil[1:],
+        duration=max(20, round(1000.0 / fps)),
+        loop=0,
+        optimize=False,
+    )
 
 
 def _write_mp4(images: list[np.ndarray], path: Path, fps: float, ffmpeg: Any) -> None:
     # Pad with white to a multiple of 16 px so ffmpeg does not rescale (macro blocks).
     h, w = images[0].shape[:2]
     H, W = -(-h // 16) * 16, -(-w // 16) * 16
-    writer = ffmpeg.write_frames(str(path), (W, H), fps=fps, codec="libx264",
-                                 pix_fmt_in="rgb24", pix_fmt_out="yuv420p")
+    writer = ffmpeg.write_frames(
+        str(path), (W, H), fps=fps, codec="libx264", pix_fmt_in="rgb24", pix_fmt_out="yuv420p"
+    )
     writer.send(None)
     try:
         for im in images:

@@ -96,37 +96,87 @@ def _scatter_space(
     dom = legal & ~nondominated & finite
     front = legal & nondominated & finite
     if ill.any():
-        ax.scatter(X[ill, 0], X[ill, 1], marker="x", s=14, color=_ILLEGAL, linewidths=0.8,
-                   label=f"illegal ({int(ill.sum())})", zorder=2)
+        ax.scatter(
+            X[ill, 0],
+            X[ill, 1],
+            marker="x",
+            s=14,
+            color=_ILLEGAL,
+            linewidths=0.8,
+            label=f"illegal ({int(ill.sum())})",
+            zorder=2,
+        )
     if colors is None:
         if dom.any():
-            ax.scatter(X[dom, 0], X[dom, 1], s=18, facecolors="none", edgecolors=_DOMINATED,
-                       linewidths=0.8, label=f"dominated ({int(dom.sum())})", zorder=3)
+            ax.scatter(
+                X[dom, 0],
+                X[dom, 1],
+                s=18,
+                facecolors="none",
+                edgecolors=_DOMINATED,
+                linewidths=0.8,
+                label=f"dominated ({int(dom.sum())})",
+                zorder=3,
+            )
         if front.any():
-            ax.scatter(X[front, 0], X[front, 1], s=30, color=_FRONT, edgecolors="black",
-                       linewidths=0.4, label=f"non-dominated ({int(front.sum())})", zorder=4)
+            ax.scatter(
+                X[front, 0],
+                X[front, 1],
+                s=30,
+                color=_FRONT,
+                edgecolors="black",
+                linewidths=0.4,
+                label=f"non-dominated ({int(front.sum())})",
+                zorder=4,
+            )
     else:
         sc = None
         for mask, edge, lab in ((dom, "none", "dominated"), (front, "black", "non-dominated")):
             if mask.any():
-                sc = ax.scatter(X[mask, 0], X[mask, 1], s=30 if edge == "black" else 18,
-                                c=colors[mask], cmap="viridis", edgecolors=edge,
-                                linewidths=0.5, vmin=np.nanmin(colors[legal & finite]),
-                                vmax=np.nanmax(colors[legal & finite]),
-                                label=f"{lab} ({int(mask.sum())})", zorder=3 + (edge != "none"))
+                sc = ax.scatter(
+                    X[mask, 0],
+                    X[mask, 1],
+                    s=30 if edge == "black" else 18,
+                    c=colors[mask],
+                    cmap="viridis",
+                    edgecolors=edge,
+                    linewidths=0.5,
+                    vmin=np.nanmin(colors[legal & finite]),
+                    vmax=np.nanmax(colors[legal & finite]),
+                    label=f"{lab} ({int(mask.sum())})",
+                    zorder=3 + (edge != "none"),
+                )
         if sc is not None:
-            ax.figure.colorbar(sc, ax=ax, fraction=0.046, pad=0.02,
-                               label="fitness (lower is better)")
+            ax.figure.colorbar(
+                sc, ax=ax, fraction=0.046, pad=0.02, label="fitness (lower is better)"
+            )
     if step_front and front.sum() > 1:
         pts = X[front]
         pts = pts[np.argsort(pts[:, 0])]
-        ax.step(pts[:, 0], pts[:, 1], where="post", color=_FRONT, linewidth=1.0, alpha=0.7,
-                zorder=3)
+        ax.step(
+            pts[:, 0], pts[:, 1], where="post", color=_FRONT, linewidth=1.0, alpha=0.7, zorder=3
+        )
     if chosen is not None and finite[chosen]:
-        ax.scatter([X[chosen, 0]], [X[chosen, 1]], marker="*", s=260, color=COLORS["goal"],
-                   edgecolors="black", linewidths=0.8, label=f"chosen (#{chosen})", zorder=6)
-        ax.annotate(f"#{chosen}", X[chosen], xytext=(8, 8), textcoords="offset points",
-                    fontsize=8, color=COLORS["goal"], zorder=7)
+        ax.scatter(
+            [X[chosen, 0]],
+            [X[chosen, 1]],
+            marker="*",
+            s=260,
+            color=COLORS["goal"],
+            edgecolors="black",
+            linewidths=0.8,
+            label=f"chosen (#{chosen})",
+            zorder=6,
+        )
+        ax.annotate(
+            f"#{chosen}",
+            X[chosen],
+            xytext=(8, 8),
+            textcoords="offset points",
+            fontsize=8,
+            color=COLORS["goal"],
+            zorder=7,
+        )
 
 
 def plot_decision(
@@ -171,8 +221,16 @@ def plot_decision(
     ax.grid(True, color="#e5e5e5", linewidth=0.5)
     hidden = int((~np.isfinite(F[:, [j, k]]).all(axis=1)).sum())
     if hidden:
-        ax.text(0.99, 0.01, f"{hidden} non-finite rows not shown", transform=ax.transAxes,
-                ha="right", va="bottom", fontsize=7, color=_ILLEGAL)
+        ax.text(
+            0.99,
+            0.01,
+            f"{hidden} non-finite rows not shown",
+            transform=ax.transAxes,
+            ha="right",
+            va="bottom",
+            fontsize=7,
+            color=_ILLEGAL,
+        )
     ax.legend(fontsize=8, loc="best", framealpha=0.85)
     if T is not None:
         ax2 = axes[1]
@@ -180,8 +238,15 @@ def plot_decision(
         if fit is not None and np.isfinite(fit[legal]).any():
             colors = np.where(np.isfinite(fit), fit, np.nan)
         _scatter_space(ax2, T[:, [j, k]], legal, nd, chosen, colors=colors)
-        ax2.plot([0.0, 1.0], [1.0, 0.0], color="black", linestyle="--", linewidth=1.0,
-                 label=f"simplex {'ΣT = 1' if m == 2 else f'edge T{j}+T{k} = 1'}", zorder=1)
+        ax2.plot(
+            [0.0, 1.0],
+            [1.0, 0.0],
+            color="black",
+            linestyle="--",
+            linewidth=1.0,
+            label=f"simplex {'ΣT = 1' if m == 2 else f'edge T{j}+T{k} = 1'}",
+            zorder=1,
+        )
         ax2.set_xlabel(f"T[{names[j]}]")
         ax2.set_ylabel(f"T[{names[k]}]")
         ax2.set_title("PaCcET-transformed", fontsize=10)
@@ -240,18 +305,33 @@ def plot_tradeoff(
         xe = np.array([float(r.get(xerr, np.nan)) for r in sel])
         ye = np.array([float(r.get(yerr, np.nan)) for r in sel])
         ax.errorbar(
-            xs[ok], ys[ok],
+            xs[ok],
+            ys[ok],
             xerr=np.where(np.isfinite(xe), xe, 0.0)[ok] if np.isfinite(xe).any() else None,
             yerr=np.where(np.isfinite(ye), ye, 0.0)[ok] if np.isfinite(ye).any() else None,
-            fmt=st.marker, color=st.color, markersize=8, markeredgecolor="black",
-            markeredgewidth=0.6, ecolor=st.color, elinewidth=1.0, capsize=3, linestyle="none",
-            label=st.label or name, zorder=3,
+            fmt=st.marker,
+            color=st.color,
+            markersize=8,
+            markeredgecolor="black",
+            markeredgewidth=0.6,
+            ecolor=st.color,
+            elinewidth=1.0,
+            capsize=3,
+            linestyle="none",
+            label=st.label or name,
+            zorder=3,
         )
         if annotate is not None:
             for r, xv, yv, good in zip(sel, xs, ys, ok, strict=True):
                 if good and r.get(annotate) is not None:
-                    ax.annotate(str(r[annotate]), (xv, yv), xytext=(5, 4),
-                                textcoords="offset points", fontsize=7, color="#444444")
+                    ax.annotate(
+                        str(r[annotate]),
+                        (xv, yv),
+                        xytext=(5, 4),
+                        textcoords="offset points",
+                        fontsize=7,
+                        color="#444444",
+                    )
     arrow = {"min": "← better", "max": "better →"}
     ax.set_xlabel(xlabel + (f"   ({arrow[x_better]})" if x_better else ""))
     ylab_arrow = {"min": "↓ better", "max": "↑ better"}
@@ -259,8 +339,16 @@ def plot_tradeoff(
     ax.grid(True, color="#e5e5e5", linewidth=0.5)
     ax.legend(fontsize=8, framealpha=0.85)
     if skipped:
-        ax.text(0.99, 0.01, f"{skipped} rows with undefined values not shown",
-                transform=ax.transAxes, ha="right", va="bottom", fontsize=7, color=_ILLEGAL)
+        ax.text(
+            0.99,
+            0.01,
+            f"{skipped} rows with undefined values not shown",
+            transform=ax.transAxes,
+            ha="right",
+            va="bottom",
+            fontsize=7,
+            color=_ILLEGAL,
+        )
     if title is not None:
         ax.set_title(title, fontsize=10)
     return fig

@@ -63,9 +63,7 @@ def _common_title(records: Sequence[EpisodeRecord]) -> str:
     return f"{records[0].scenario}{robot}"
 
 
-def _draw_scene(
-    ax: Axes, record: EpisodeRecord, *, show_people: bool, show_social: bool
-) -> None:
+def _draw_scene(ax: Axes, record: EpisodeRecord, *, show_people: bool, show_social: bool) -> None:
     L.draw_map(ax, record)
     if show_social:
         L.draw_social(ax, record)
@@ -84,7 +82,11 @@ def _draw_robot(
     slot: int = 0,
 ) -> None:
     L.draw_robot_path(
-        ax, record, color=style.color, linestyle=style.linestyle, label=label,
+        ax,
+        record,
+        color=style.color,
+        linestyle=style.linestyle,
+        label=label,
         footprint_every=show_footprint_every,
     )
     if show_people:
@@ -98,8 +100,9 @@ def _legend(fig: Figure, axes: Sequence[Axes], wide: bool) -> None:
     if wide:
         # About 2.6 in per column keeps long planner labels (with stats) inside the figure.
         ncols = max(1, min(len(handles), int(fig.get_figwidth() // 2.6)))
-        fig.legend(handles, labels, loc="outside lower center", ncols=ncols, fontsize=8,
-                   frameon=False)
+        fig.legend(
+            handles, labels, loc="outside lower center", ncols=ncols, fontsize=8, frameon=False
+        )
     else:
         fig.legend(handles, labels, loc="outside right upper", fontsize=8, frameon=False)
 
@@ -225,10 +228,23 @@ def plot_comparison(
         for i, r in enumerate(records):
             if show_people and i > 0 and _people_differ(first, r):
                 for k in range(r.people_positions.shape[1]):
-                    ax.plot(*r.people_positions[:, k].T, color=styles[i].color,
-                            linestyle=":", linewidth=1.0, alpha=0.7, zorder=5)
-            _draw_robot(ax, r, styles[i], texts[i], show_people=show_people,
-                        show_footprint_every=show_footprint_every, slot=i)
+                    ax.plot(
+                        *r.people_positions[:, k].T,
+                        color=styles[i].color,
+                        linestyle=":",
+                        linewidth=1.0,
+                        alpha=0.7,
+                        zorder=5,
+                    )
+            _draw_robot(
+                ax,
+                r,
+                styles[i],
+                texts[i],
+                show_people=show_people,
+                show_footprint_every=show_footprint_every,
+                slot=i,
+            )
             L.draw_goals(ax, r, start=i == 0)
         L.finish_map_axes(ax, roi)
         ax.set_title(title if title is not None else _common_title(records), fontsize=10)
@@ -237,14 +253,21 @@ def plot_comparison(
     n = len(records)
     cols = ncols or (1 if wide else min(n, 3))
     rows = int(np.ceil(n / cols))
-    fig = L.new_figure(*L.figure_size(roi, width=7.0 if wide else 4.5, legend_right=not wide,
-                                      cols=cols, rows=rows))
+    fig = L.new_figure(
+        *L.figure_size(roi, width=7.0 if wide else 4.5, legend_right=not wide, cols=cols, rows=rows)
+    )
     axes = fig.subplots(rows, cols, sharex=True, sharey=True, squeeze=False).ravel()
     for i, r in enumerate(records):
         ax = axes[i]
         _draw_scene(ax, r, show_people=show_people, show_social=show_social)
-        _draw_robot(ax, r, styles[i], texts[i], show_people=show_people,
-                    show_footprint_every=show_footprint_every)
+        _draw_robot(
+            ax,
+            r,
+            styles[i],
+            texts[i],
+            show_people=show_people,
+            show_footprint_every=show_footprint_every,
+        )
         L.draw_goals(ax, r)
         L.finish_map_axes(ax, roi)
         ax.set_title(texts[i], fontsize=9, color=styles[i].color)

@@ -1,0 +1,61 @@
+"""A minimal kinematic loop (integrate the commanded twist; no simulator) through the Navigator."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from _planner_helpers import collides, step_pose, world
+
+from socialnav.core.robot import PIONEER, PR2, RobotModel
+from socialnav.core.scene import SocialContext
+from socialnav.planner.local_planner import PlannerStatus, traditional_planner
+from socialnav.planner.navigator import Navigator
+from socialnav.planner.recovery import RecoveringPlanner, RecoveryParams
+
+
+def drive(robot: RobotModel, segments, start, goal, steps: int, polygons=(), window=10.0,
+          recovery=None, width=8.0, height=4.0):
+    cm, occ = world(width, height, segments, robot, polygons=polygons)
+    planner = RecoveringPlanner(traditional_planner(robot), recovery)
+    nav = Navigator(robot, planner, cm, np.asarray(goal, dtype=float), window_size=window)
+    pose = np.asarray(start, dtype=float)
+    vel = np.zeros(3)
+    statuses = []
+    for k in range(steps):
+        res = nav.step(0.1 * k, pose, vel, SocialContext())
+        statuses.append(res.status)
+        assert np.all(np.isfinite(res.cmd))
+        if res.status in (PlannerStatus.GOAL_REACHED, PlannerStatus.STUCK):
+            break
+        vel = res.cmd
+        pose = step_pose(pose, vel)
+        assert not collides(pose, robot, occ, cm.geometry), f"collision at step {k}: {pose}"
+    return pose, statuses
+
+
+CORRIDOR = [[[0.0, 0.5], [8.0, 0.5]], [[0.0, 3.5], [8.0, 3.5]]]
+
+
+@pytest.mark.parametrize("robot", [PR2, PIONEER])
+def test_corridor_to_goal(robot):
+    pose, statuses = drive(robot, CORRIDOR, (1.0, 2.0, 0.0), (6.5, 2.0, 0.0), 400)
+    assert statuses[-1] == PlannerStatus.GOAL_REACHED
+    assert np.hypot(pose[0] - 6.5, pose[1] - 2.0) <= 0.1 + 1e-9
+    assert abs(pose[2]) <= 0.1 + 1e-9
+
+
+def test_around_a_box():
+    box = [np.array([[3.4, 1.4], [4.6, 1.4], [4.6, 2.6], [3.4, 2.6]])]
+    pose, statuses = drive(PIONEER, CORRIDOR, (1.0, 2.0, 0.0), (6.5, 2.0, 0.0), 500,
+                           polygons=box)
+    assert statuses[-1] == PlannerStatus.GOAL_REACHED
+    assert np.hypot(pose[0] - 6.5, pose[1] - 2.0) <= 0.1 + 1e-9
+
+
+def test_dead_end_recovers_then_gives_up_without_collision():
+    # The goal sits in a pocket walled off from the corridor: unreachable.
+    walls = [*CORRIDOR, [[5.0, 0.5], [5.0, 3.5]], [[5.8, 0.5], [5.8, 3.5]]]
+    pose, statuses = drive(PR2, walls, (1.0, 2.0, 0.0), (5.4, 2.0, 0.0), 400,
+                           recovery=RecoveryParams(progress_time=5.0))
+    assert statuses[-1] == PlannerStatus.STUCK
+    assert pose[0] < 5.0
