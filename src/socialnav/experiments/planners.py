@@ -9,15 +9,17 @@ instead of ours.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from pathlib import Path
 from typing import Any
 
-import numpy as np
-
 from socialnav.core.registry import Registry
-from socialnav.core.robot import ROBOT_MODELS, RobotModel
-from socialnav.core.scene import SocialContext
-from socialnav.planner.presets import PRESETS, build_navigator
+from socialnav.core.robot import ROBOT_MODELS
+from socialnav.planner.presets import PRESETS
+from socialnav.sim.scenario import Jitter
+from socialnav.sim.stack import StackController
+
+# The randomized suite: people moved by N(0, 0.15 m), walking speeds by N(0, 0.1 m/s), walkers'
+# starts by ±0.3 m along their line; group sizes vary by ±1 (``vary_group_sizes``).
+RANDOMIZED_JITTER = Jitter(position_sigma=0.15, speed_sigma=0.1, start_shift=0.3)
 
 
 @dataclass(frozen=True)
@@ -43,39 +45,6 @@ PLANNERS.add(
 )
 
 
-class StackController:
-    """Our navigation stack behind the simulator's controller interface."""
-
-    def __init__(self, preset: str, record: bool = False) -> None:
-        self.preset = preset
-        self.record = record
-        self.navigator: Any = None
-        self.plan_seconds: list[float] = []
-
-    def reset(self, scenario: Any, robot: RobotModel) -> None:
-        from socialnav.sim.scenario import Scenario
-
-        assert isinstance(scenario, Scenario)
-        self.navigator = build_navigator(
-            self.preset,
-            robot,
-            costmap=scenario.static_costmap(robot),
-            goal=np.asarray(scenario.goal_pose(), dtype=float),
-            social=scenario.social_context(),
-        )
-        self.plan_seconds = []
-
-    def step(self, time: float, pose: np.ndarray, velocity: np.ndarray, social: SocialContext):
-        import time as clock
-
-        from socialnav.sim.controller import ControlOutput
-
-        started = clock.perf_counter()
-        result = self.navigator.step(time, pose, velocity, social, record=self.record)
-        self.plan_seconds.append(clock.perf_counter() - started)
-        return ControlOutput(result.cmd, str(result.status.value), result if self.record else None)
-
-
 def run_planner_episode(spec: Any, record_diagnostics: bool = False) -> Any:
     """Run one :class:`~socialnav.experiments.suite.EpisodeSpec` with its planner."""
     from socialnav.sim.runner import run_episode
@@ -84,13 +53,12 @@ def run_planner_episode(spec: Any, record_diagnostics: bool = False) -> Any:
     entry = PLANNERS.get(spec.planner)
     scenario = load_scenario(spec.scenario)
     if spec.randomize:
-        scenario = scenario.randomize(spec.seed, vary_group_size=True)
-    elif scenario.has_jitter():
-        scenario = scenario.randomize(spec.seed)
+        scenario = scenario.model_copy(update={"jitter": RANDOMIZED_JITTER})
     robot = ROBOT_MODELS[spec.robot]
     controller: Any = entry.behavior
     if entry.preset is not None:
         controller = StackController(entry.preset, record=record_diagnostics)
+    # run_episode applies the scenario's jitter from the seed (a no-op for unjittered scenarios).
     result = run_episode(
         scenario,
         controller,
@@ -98,12 +66,9 @@ def run_planner_episode(spec: Any, record_diagnostics: bool = False) -> Any:
         seed=spec.seed,
         humans=spec.humans,
         record_diagnostics=record_diagnostics,
+        vary_group_sizes=spec.randomize,
     )
     result.record.meta.update({"planner": spec.planner, "robot": spec.robot, "seed": spec.seed})
-    if isinstance(controller, StackController) and controller.plan_seconds:
-        result.record.meta["planner_ms_median"] = float(np.median(controller.plan_seconds) * 1e3)
+    if isinstance(controller, StackController):
+        result.record.meta["planner_ms_median"] = controller.median_plan_ms
     return result
-
-
-def scenario_name(path_or_name: str) -> str:
-    return Path(path_or_name).stem

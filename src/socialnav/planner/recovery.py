@@ -8,9 +8,10 @@ Behaviour (parameters in :class:`RecoveryParams`):
 - When the wrapped planner returns ``NO_LEGAL_TRAJECTORY``, a recovery starts: (1) rotate in place
   toward the freest direction — the heading, among ``num_headings``, whose ray from the robot stays
   clear of INSCRIBED/LETHAL/UNKNOWN cells the longest (up to ``clearance_range``); (2) back up at
-  ``backup_speed`` for ``backup_distance``. Each command is first checked for footprint collision
-  over its own rollout (one sample, the occupancy critic); an unsafe step is skipped. Afterwards
-  the wrapped planner gets control back. Status ``RECOVERING``.
+  ``backup_speed`` for ``backup_distance`` instead when the free space is behind, when the robot
+  already faces the freest ray, or when turning is unsafe. Each command is first checked for
+  footprint collision over its own rollout (one sample, the occupancy critic); an unsafe step
+  is skipped. Afterwards the wrapped planner gets control back. Status ``RECOVERING``.
 - ``STUCK`` (latched until ``reset`` or a new goal, zero command) when the robot has not moved
   ``progress_radius`` m within ``progress_time`` s (Nav2 SimpleProgressChecker, with 0.25 m / 10 s
   defaults), or after ``max_recoveries`` recoveries without an ``OK`` cycle in between.
@@ -145,7 +146,9 @@ class RecoveringPlanner:
         self._target_yaw = float(wrap_angle(headings[best]))
         rear = free[p.num_headings // 2] if p.num_headings > 1 else 0.0
         # Free space behind: back up toward it (base_local_planner's escape); else turn to it.
-        self._phase = "backup" if rear >= 0.8 * free[best] and rear > 0 else "rotate"
+        facing = abs(float(wrap_angle(self._target_yaw - ctx.pose[2]))) <= p.rotate_tolerance
+        behind = rear >= 0.8 * free[best] and rear > 0
+        self._phase = "backup" if behind or facing else "rotate"
         self._phase_start = float(ctx.time)
         self._backup_from = ctx.pose[:2].copy()
 

@@ -430,10 +430,13 @@ def _update_fan(
 def _write_gif(images: list[np.ndarray], path: Path, fps: float) -> None:
     from PIL import Image
 
-    # One adaptive palette per frame keeps the fan's colours; 128 colours keep files small.
-    pil = [
-        Image.fromarray(im).quantize(colors=128, method=Image.Quantize.MEDIANCUT) for im in images
-    ]
+    # One palette for all frames, built from a strip of sampled frames (so the fan's colours
+    # are in it): consecutive frames then differ only where something moved, and Pillow
+    # stores just that region, which keeps long GIFs small.
+    picks = np.unique(np.linspace(0, len(images) - 1, min(len(images), 8)).round().astype(int))
+    strip = Image.fromarray(np.concatenate([images[i] for i in picks], axis=0))
+    palette = strip.quantize(colors=192, method=Image.Quantize.MEDIANCUT)
+    pil = [Image.fromarray(im).quantize(palette=palette, dither=Image.Dither.NONE) for im in images]
     pil[0].save(
         path,
         format="GIF",
@@ -441,7 +444,6 @@ def _write_gif(images: list[np.ndarray], path: Path, fps: float) -> None:
         append_images=pil[1:],
         duration=max(20, round(1000.0 / fps)),
         loop=0,
-        optimize=False,
     )
 
 

@@ -15,6 +15,7 @@ from typing import Any, Literal
 
 import numpy as np
 from matplotlib.axes import Axes
+from matplotlib.figure import Figure
 
 from socialnav.viz import _layers as L
 from socialnav.viz.style import COLORS, assign_styles
@@ -190,7 +191,7 @@ def plot_decision(
     fitness: Any = None,
     pair: tuple[int, int] = (0, 1),
     title: str | None = None,
-):
+) -> Figure:
     """Why did this candidate win? One control cycle's objective space.
 
     - ``F (N, m)`` raw objective values (minimized; ``m >= 2``); non-finite rows are not drawn.
@@ -272,7 +273,7 @@ def plot_tradeoff(
     x_better: Literal["min", "max"] | None = None,
     y_better: Literal["min", "max"] | None = None,
     title: str | None = None,
-):
+) -> Figure:
     """Social quality vs efficiency: one marker (and colour) per planner.
 
     ``rows``: mappings with ``group`` (planner name), ``x``, ``y`` and optionally ``xerr``,

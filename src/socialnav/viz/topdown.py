@@ -93,10 +93,14 @@ def _draw_robot(
         L.draw_closest_approach(ax, record, style.color, slot)
 
 
-def _legend(fig: Figure, axes: Sequence[Axes], wide: bool) -> None:
+def _legend(fig: Figure, axes: Sequence[Axes], wide: bool, first: Sequence[str] = ()) -> None:
+    """One figure legend; the robot paths (``first``) lead, the scene follows."""
     handles, labels = L.dedup_legend_handles(axes)
     if not handles:
         return
+    rank = {lab: i for i, lab in enumerate(first)}
+    order = sorted(range(len(labels)), key=lambda i: (rank.get(labels[i], len(rank)), i))
+    handles, labels = [handles[i] for i in order], [labels[i] for i in order]
     if wide:
         # About 2.6 in per column keeps long planner labels (with stats) inside the figure.
         ncols = max(1, min(len(handles), int(fig.get_figwidth() // 2.6)))
@@ -164,7 +168,7 @@ def plot_episode(
     if not own:
         return ax
     if legend:
-        _legend(fig, [ax], wide)
+        _legend(fig, [ax], wide, first=[text])
     return fig
 
 
@@ -248,7 +252,7 @@ def plot_comparison(
             L.draw_goals(ax, r, start=i == 0)
         L.finish_map_axes(ax, roi)
         ax.set_title(title if title is not None else _common_title(records), fontsize=10)
-        _legend(fig, [ax], wide)
+        _legend(fig, [ax], wide, first=texts)
         return fig
     n = len(records)
     cols = ncols or (1 if wide else min(n, 3))
@@ -276,7 +280,7 @@ def plot_comparison(
         ax.set_visible(False)
     if title is not None or len({r.scenario for r in records}) == 1:
         fig.suptitle(title if title is not None else _common_title(records), fontsize=11)
-    _legend(fig, list(axes[:n]), wide)
+    _legend(fig, list(axes[:n]), wide, first=texts)
     return fig
 
 

@@ -1,0 +1,248 @@
+"""Named planner configurations: which objectives, which selection, which social goal.
+
+- ``traditional``: the ROS planner — one navigation objective, weighted sum, the given goal.
+- ``proxemic_layer``: the traditional planner on a costmap with the social_navigation_layers
+  proxemic Gaussian of every person (what a ROS user does today); still drives to the given goal.
+- ``weighted_social``: the social objectives of ``paccet`` combined by a weighted sum — the
+  alternative the paper argues against.
+- ``paccet_paper``: the paper-faithful configuration — one ``ID`` objective per person (up to
+  three nearest), ``GD`` when there is a group, ``SGD`` when a social goal applies, all measured at
+  the trajectory's end point against people where they are now; a fresh archive every cycle, the
+  reference weights (0.4, 0.5, 0.5, 0.5, 0, 1) over (navigation, ID1..3, GD, SGD) on the
+  transformed values, and the reference PaCcET behaviour (parity bisections, absolute delta,
+  no degeneracy remedies).
+- ``paccet``: our recommended configuration (see ``recommended`` below for the choices and the
+  measurements behind them).
+
+The objective set follows the scene, as in the paper: 2 objectives in the hallway, 3 in the
+gallery, 5 in the queue.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from socialnav.core.registry import Registry
+from socialnav.core.robot import RobotModel
+from socialnav.core.scene import SocialContext
+from socialnav.moo.paccet import PaccetOptions
+from socialnav.moo.scalarize import Weighted
+from socialnav.moo.selection import PaccetSelection, SelectionStrategy, WeightedSum
+from socialnav.planner.critics.activity_space import ActivitySpaceCritic
+from socialnav.planner.critics.group import GroupCritic
+from socialnav.planner.critics.interpersonal import InterpersonalCritic
+from socialnav.planner.critics.social_goal import SocialGoalCritic
+from socialnav.planner.local_planner import (
+    LocalPlanner,
+    LocalPlannerParams,
+    traditional_objectives,
+)
+from socialnav.planner.navigator import Navigator
+from socialnav.planner.objectives import Objective
+from socialnav.planner.recovery import RecoveringPlanner
+from socialnav.world.grid import Costmap
+
+# The reference navigation code's scalarization weights, by objective kind.
+PAPER_WEIGHTS = {"navigation": 0.4, "ID": 0.5, "GD": 0.0, "SGD": 1.0, "AS": 0.5}
+PAPER_MAX_PEOPLE = 3
+
+
+@dataclass(frozen=True)
+class PlannerPreset:
+    """How to build one named planner; ``objectives`` maps a scene to objectives + weights."""
+
+    description: str
+    objectives: Callable[[SocialContext, bool, LocalPlannerParams], list[tuple[Objective, float]]]
+    selection: Callable[[list[float]], SelectionStrategy]
+    social_goal: bool = False
+    proxemic_layer: bool = False
+    predict_people: bool = True
+    params: LocalPlannerParams = field(default_factory=LocalPlannerParams)
+
+
+PRESETS: Registry[PlannerPreset] = Registry("planner preset")
+
+
+def has_social_goal(social: SocialContext) -> bool:
+    """Scenes whose structure yields a social goal (queue, group, artwork with a viewer)."""
+    return bool(social.queues or social.groups or any(a.viewer_ids for a in social.artworks))
+
+
+def navigation_only(
+    social: SocialContext, social_goal: bool, params: LocalPlannerParams
+) -> list[tuple[Objective, float]]:
+    return [(traditional_objectives(params)[0], 1.0)]
+
+
+def paper_objectives(
+    social: SocialContext, social_goal: bool, params: LocalPlannerParams
+) -> list[tuple[Objective, float]]:
+    """Navigation, ID per person (≤ 3), GD if a group, SGD if a social goal; end-point rule."""
+    out = [(traditional_objectives(params)[0], PAPER_WEIGHTS["navigation"])]
+    for k in range(min(PAPER_MAX_PEOPLE, len(social.people))):
+        critic = InterpersonalCritic(person_slot=k, evaluation="last")
+        out.append((Objective(f"ID{k + 1}", ((critic, 1.0),)), PAPER_WEIGHTS["ID"]))
+    if social.groups:
+        out.append((Objective("GD", ((GroupCritic(evaluation="last"), 1.0),)), PAPER_WEIGHTS["GD"]))
+    if social_goal:
+        out.append((Objective("SGD", ((SocialGoalCritic(), 1.0),)), PAPER_WEIGHTS["SGD"]))
+    return out
+
+
+def recommended_objectives(
+    social: SocialContext, social_goal: bool, params: LocalPlannerParams
+) -> list[tuple[Objective, float]]:
+    """Navigation, one ID over all people forecast along the rollout, GD, SGD, activity space."""
+    out = [(traditional_objectives(params)[0], PAPER_WEIGHTS["navigation"])]
+    if social.people:
+        critic = InterpersonalCritic(evaluation="max_over_time")
+        out.append((Objective("ID", ((critic, 1.0),)), PAPER_WEIGHTS["ID"]))
+    if social.groups:
+        critic = GroupCritic(evaluation="max_over_time", illegal_inside=True)
+        out.append((Objective("GD", ((critic, 1.0),)), PAPER_WEIGHTS["ID"]))
+    if social_goal:
+        out.append(
+            (Objective("SGD", ((SocialGoalCritic(relative=True), 1.0),)), PAPER_WEIGHTS["SGD"])
+        )
+    if any(a.viewer_ids for a in social.artworks):
+        critic = ActivitySpaceCritic(measure="max_depth")
+        out.append((Objective("AS", ((critic, 1.0),)), PAPER_WEIGHTS["AS"]))
+    return out
+
+
+def paper_selection(weights: list[float]) -> SelectionStrategy:
+    return PaccetSelection(Weighted(weights), PaccetOptions.reference())
+
+
+def recommended_selection(weights: list[float]) -> SelectionStrategy:
+    return PaccetSelection(Weighted(weights), PaccetOptions())
+
+
+def weighted_sum(weights: list[float]) -> SelectionStrategy:
+    return WeightedSum(weights)
+
+
+def single_weight(weights: list[float]) -> SelectionStrategy:
+    return WeightedSum([1.0])
+
+
+PRESETS.add(
+    "traditional",
+    PlannerPreset(
+        "ROS trajectory rollout, weighted sum, no social terms", navigation_only, single_weight
+    ),
+)
+PRESETS.add(
+    "proxemic_layer",
+    PlannerPreset(
+        "traditional planner on a costmap with social_navigation_layers' proxemic Gaussians",
+        navigation_only,
+        single_weight,
+        proxemic_layer=True,
+    ),
+)
+PRESETS.add(
+    "weighted_social",
+    PlannerPreset(
+        "the social objectives of paccet combined by a weighted sum",
+        recommended_objectives,
+        weighted_sum,
+        social_goal=True,
+    ),
+)
+PRESETS.add(
+    "paccet_paper",
+    PlannerPreset(
+        "PaCcET as in the paper: per-person ID at the end point, reference weights and bisections",
+        paper_objectives,
+        paper_selection,
+        social_goal=True,
+        predict_people=False,
+    ),
+)
+PRESETS.add(
+    "paccet",
+    PlannerPreset(
+        "PaCcET, recommended: forecast people, degeneracy remedies on, activity-space objective",
+        recommended_objectives,
+        recommended_selection,
+        social_goal=True,
+    ),
+)
+
+
+class StickySocialGoal:
+    """Resolve the social goal once and keep it while the people who define it stay put.
+
+    ``resolve_social_goal`` is stateless and depends on the robot's pose (e.g. which side of
+    the artwork to present from); re-resolving every cycle would let the goal flip as the robot
+    moves. It is recomputed when any person moved more than ``moved`` metres.
+    """
+
+    def __init__(self, moved: float = 0.3) -> None:
+        self.moved = moved
+        self._positions: np.ndarray | None = None
+        self._goal: Any = None
+
+    def __call__(self, social: SocialContext, given_goal: np.ndarray, pose: np.ndarray) -> Any:
+        from socialnav.social.resolve import resolve_social_goal
+
+        positions = social.positions()
+        stale = (
+            self._positions is None
+            or self._positions.shape != positions.shape
+            or (positions.size and np.max(np.hypot(*(positions - self._positions).T)) > self.moved)
+        )
+        if stale:
+            self._goal = resolve_social_goal(social, given_goal, pose)
+            self._positions = positions
+        return self._goal
+
+
+def build_local_planner(
+    name: str, robot: RobotModel, social: SocialContext, params: LocalPlannerParams | None = None
+) -> LocalPlanner:
+    """The local planner of preset ``name`` for a scene like ``social``."""
+    preset = PRESETS.get(name)
+    p = params or preset.params
+    pairs = preset.objectives(social, preset.social_goal and has_social_goal(social), p)
+    objectives = tuple(o for o, _ in pairs)
+    selection = preset.selection([w for _, w in pairs])
+    return LocalPlanner(robot, objectives, selection, p)
+
+
+def build_navigator(
+    name: str,
+    robot: RobotModel,
+    costmap: Costmap,
+    goal: np.ndarray,
+    social: SocialContext,
+    record: bool = False,
+    params: LocalPlannerParams | None = None,
+) -> Navigator:
+    """The stack of preset ``name``: global plan, local planner with recoveries, social goal."""
+    preset = PRESETS.get(name)
+    local = RecoveringPlanner(build_local_planner(name, robot, social, params))
+    layer = None
+    if preset.proxemic_layer:
+        from socialnav.world.costmap import combine_max
+        from socialnav.world.proxemic_layer import proxemic_costs
+
+        def layer(local_costmap: Costmap, people: SocialContext) -> Costmap:
+            costs = proxemic_costs(local_costmap.geometry, people.positions(), people.velocities())
+            return combine_max(local_costmap, costs)
+
+    return Navigator(
+        robot,
+        local,
+        costmap,
+        goal,
+        social_goal_fn=StickySocialGoal() if preset.social_goal else None,
+        predict_people=preset.predict_people,
+        record=record,
+        costmap_layer=layer,
+    )

@@ -1,0 +1,263 @@
+"""rosbag2 export: read the bags back with rosbags' own reader and compare with the record."""
+
+from __future__ import annotations
+
+import builtins
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+pytest.importorskip("rosbags")
+
+from rosbags.rosbag2 import Reader
+
+from socialnav.core.episode import EpisodeRecord
+from socialnav.integrations import rosbag as rb
+from socialnav.integrations.rosbag import (
+    DEFAULT_START_TIME_NS,
+    TOPICS,
+    export_rosbag,
+    make_typestore,
+    read_rosbag_poses,
+)
+
+T, K, DT = 50, 2, 0.1
+STORAGES = ["mcap", "sqlite3"]
+
+
+def synthetic_record() -> EpisodeRecord:
+    """50 samples along an arc (yaw crosses ±π, so wrapping is exercised), 2 walking people."""
+    times = np.arange(T) * DT
+    yaw = np.linspace(2.5, 4.0, T)  # unwrapped, as recorders may store it
+    poses = np.column_stack([1.0 + 0.3 * times, -0.7 + np.sin(times), yaw])
+    twists = np.column_stack([np.full(T, 0.4), np.zeros(T), np.linspace(-0.5, 0.5, T)])
+    people = np.stack([
+        np.column_stack([5.0 - 0.5 * times, np.full(T, 1.0)]),
+        np.column_stack([np.full(T, 3.0), -2.0 + 0.25 * times]),
+    ], axis=1)
+    vel = np.stack([np.tile([-0.5, 0.0], (T, 1)), np.tile([0.0, 0.25], (T, 1))], axis=1)
+    walls = np.array([[[0.0, -1.5], [10.0, -1.5]], [[0.0, 1.5], [10.0, 1.5]]])
+    status = np.array(["OK"] * (T - 1) + ["GOAL_REACHED"], dtype=object)
+    return EpisodeRecord(
+        dt=DT, times=times, robot_poses=poses, robot_twists=twists,
+        robot_footprint=np.array([[0.3, 0.3], [-0.3, 0.3], [-0.3, -0.3], [0.3, -0.3]]),
+        robot_radius=0.43, people_ids=np.array([7, 11]), people_positions=people,
+        people_velocities=vel, people_radii=np.array([0.25, 0.3]),
+        start=poses[0].copy(), goal=np.array([9.0, 0.0, 0.0]), target=np.array([8.0, 0.5, 1.2]),
+        goal_tolerance=0.3, time_limit=60.0, family="hallway", scenario="synthetic",
+        walls=walls, obstacles=(np.array([[4.0, 0.0], [4.5, 0.0], [4.5, 0.5]]),), status=status,
+    )
+
+
+@pytest.fixture(scope="module")
+def record() -> EpisodeRecord:
+    return synthetic_record()
+
+
+@pytest.fixture(scope="module", params=STORAGES)
+def bag(request: pytest.FixtureRequest, record: EpisodeRecord,
+        tmp_path_factory: pytest.TempPathFactory) -> tuple[str, Path]:
+    path = tmp_path_factory.mktemp(request.param) / "missing" / "parents" / "episode"
+    out = export_rosbag(record, path, storage=request.param)
+    assert out == path
+    return request.param, path
+
+
+def messages(path: Path, topic: str) -> list[tuple[int, object]]:
+    store = make_typestore()
+    with Reader(path) as reader:
+        conns = [c for c in reader.connections if c.topic == topic]
+        return [(ts, store.deserialize_cdr(raw, c.msgtype))
+                for c, ts, raw in reader.messages(connections=conns)]
+
+
+def test_storage_file_and_parents(bag: tuple[str, Path]) -> None:
+    storage, path = bag
+    assert (path / "metadata.yaml").is_file()
+    suffix = ".mcap" if storage == "mcap" else ".db3"
+    assert [p.suffix for p in path.iterdir() if p.name != "metadata.yaml"] == [suffix]
+
+
+def test_topics_types_and_counts(bag: tuple[str, Path]) -> None:
+    _, path = bag
+    with Reader(path) as reader:
+        topics = {name: (info.msgtype, info.msgcount) for name, info in reader.topics.items()}
+        assert reader.message_count == 6 * T + 2
+        assert reader.start_time == DEFAULT_START_TIME_NS
+        assert reader.end_time == DEFAULT_START_TIME_NS + round((T - 1) * DT * 1e9) + 1
+    once = {"/walls", "/social_goal"}
+    assert topics == {t: (ty, 1 if t in once else T) for t, ty in TOPICS.items()}
+
+
+def test_robot_poses_round_trip(bag: tuple[str, Path], record: EpisodeRecord) -> None:
+    times, poses = read_rosbag_poses(bag[1])
+    np.testing.assert_allclose(times, record.times, rtol=0, atol=1e-9)
+    np.testing.assert_allclose(poses[:, :2], record.robot_poses[:, :2], rtol=0, atol=1e-9)
+    dyaw = np.angle(np.exp(1j * (poses[:, 2] - record.robot_poses[:, 2])))
+    np.testing.assert_allclose(dyaw, 0.0, atol=1e-9)
+    assert np.all(np.abs(poses[:, 2]) <= np.pi)
+
+
+def test_odom_tf_and_cmd_vel(bag: tuple[str, Path], record: EpisodeRecord) -> None:
+    path = bag[1]
+    odom, tf, cmd = (messages(path, t) for t in ("/odom", "/tf", "/cmd_vel"))
+    for k in (0, 17, T - 1):
+        ts, o = odom[k]
+        assert ts == DEFAULT_START_TIME_NS + round(record.times[k] * 1e9)
+        assert o.header.stamp.sec * 10**9 + o.header.stamp.nanosec == ts
+        assert (o.header.frame_id, o.child_frame_id) == ("map", "base_link")
+        assert o.twist.twist.linear.x == pytest.approx(record.robot_twists[k, 0], abs=1e-12)
+        assert o.twist.twist.angular.z == pytest.approx(record.robot_twists[k, 2], abs=1e-12)
+        (tr,) = tf[k][1].transforms
+        assert (tr.header.frame_id, tr.child_frame_id) == ("map", "base_link")
+        assert tr.transform.translation.x == pytest.approx(record.robot_poses[k, 0], abs=1e-12)
+        q = tr.transform.rotation
+        assert q.x**2 + q.y**2 + q.z**2 + q.w**2 == pytest.approx(1.0, abs=1e-12)
+        assert cmd[k][1].angular.z == pytest.approx(record.robot_twists[k, 2], abs=1e-12)
+
+
+def test_people_custom_type(bag: tuple[str, Path], record: EpisodeRecord) -> None:
+    people = messages(bag[1], "/people")
+    assert len(people) == T
+    for k in (0, 25, T - 1):
+        msg = people[k][1]
+        assert type(msg).__msgtype__ == "people_msgs/msg/People"
+        assert [p.name for p in msg.people] == ["7", "11"]
+        got = np.array([[p.position.x, p.position.y] for p in msg.people])
+        np.testing.assert_allclose(got, record.people_positions[k], rtol=0, atol=1e-12)
+        vel = np.array([[p.velocity.x, p.velocity.y] for p in msg.people])
+        np.testing.assert_allclose(vel, record.people_velocities[k], rtol=0, atol=1e-12)
+        assert [float(p.tags[0]) for p in msg.people] == [0.25, 0.3]
+        assert all(p.tagnames == ["radius"] for p in msg.people)
+
+
+def test_people_bag_definition_is_self_describing(bag: tuple[str, Path]) -> None:
+    """A reader without our type store can rebuild People from the definition stored in the bag."""
+    from rosbags.typesys import Stores, get_typestore
+    from rosbags.typesys.msg import get_types_from_msg
+
+    with Reader(bag[1]) as reader:
+        (conn,) = [c for c in reader.connections if c.topic == "/people"]
+        assert "people_msgs/Person" in conn.msgdef.data
+        store = get_typestore(Stores.EMPTY)
+        store.register(get_types_from_msg(conn.msgdef.data, conn.msgtype))
+        _, _, raw = next(iter(reader.messages(connections=[conn])))
+    msg = store.deserialize_cdr(raw, conn.msgtype)
+    assert len(msg.people) == K
+
+
+def test_markers_walls_goal_status(bag: tuple[str, Path], record: EpisodeRecord) -> None:
+    path = bag[1]
+    ((ts, walls),) = messages(path, "/walls")
+    assert ts == DEFAULT_START_TIME_NS
+    wall, obstacle = walls.markers
+    pts = np.array([[p.x, p.y] for p in wall.points])
+    np.testing.assert_array_equal(pts, record.walls.reshape(-1, 2))
+    assert wall.type == wall.LINE_LIST
+    assert len(obstacle.points) == 4  # the triangle outline, closed
+    marks = messages(path, "/people_markers")
+    last = marks[-1][1].markers
+    assert [m.id for m in last] == [7, 11]
+    assert all(m.type == m.CYLINDER for m in last)
+    np.testing.assert_allclose([m.scale.x for m in last], 2 * record.people_radii)
+    np.testing.assert_allclose([[m.pose.position.x, m.pose.position.y] for m in last],
+                               record.people_positions[-1], atol=1e-12)
+    ((_, goal),) = messages(path, "/social_goal")
+    assert goal.pose.position.x == 8.0
+    assert 2 * np.arctan2(goal.pose.orientation.z, goal.pose.orientation.w) == pytest.approx(1.2)
+    status = [m.data for _, m in messages(path, "/planner_status")]
+    assert status == list(record.status)
+
+
+def test_latched_topics_offer_transient_local(bag: tuple[str, Path]) -> None:
+    from rosbags.interfaces import QosDurability
+
+    with Reader(bag[1]) as reader:
+        qos = {c.topic: c.ext.offered_qos_profiles for c in reader.connections}
+    for topic in ("/walls", "/social_goal"):
+        assert [q.durability for q in qos[topic]] == [QosDurability.TRANSIENT_LOCAL]
+    assert qos["/odom"] == []
+
+
+def test_deterministic(record: EpisodeRecord, tmp_path: Path) -> None:
+    a = export_rosbag(record, tmp_path / "a", storage="sqlite3")
+    b = export_rosbag(record, tmp_path / "b", storage="sqlite3")
+    for topic in ("/odom", "/people", "/walls"):
+        ra, rb_ = messages(a, topic), messages(b, topic)
+        assert [t for t, _ in ra] == [t for t, _ in rb_]
+        assert [repr(m) for _, m in ra] == [repr(m) for _, m in rb_]
+
+
+def test_start_time_option(record: EpisodeRecord, tmp_path: Path) -> None:
+    start = 1_700_000_000_123_456_789
+    path = export_rosbag(record, tmp_path / "bag", start_time_ns=start)
+    with Reader(path) as reader:
+        assert reader.start_time == start
+    times, _ = read_rosbag_poses(path)
+    np.testing.assert_allclose(times, record.times, atol=1e-9)
+
+
+def test_existing_bag_refused_unless_overwrite(record: EpisodeRecord, tmp_path: Path) -> None:
+    path = export_rosbag(record, tmp_path / "bag", storage="mcap")
+    with pytest.raises(FileExistsError, match="overwrite=True"):
+        export_rosbag(record, path, storage="mcap")
+    export_rosbag(record, path, storage="sqlite3", overwrite=True)
+    assert sorted(p.suffix for p in path.iterdir()) == [".db3", ".yaml"]
+    _, poses = read_rosbag_poses(path)
+    assert poses.shape == (T, 3)
+
+
+def test_overwrite_refuses_non_bag_folder(record: EpisodeRecord, tmp_path: Path) -> None:
+    folder = tmp_path / "notes"
+    folder.mkdir()
+    (folder / "thesis.tex").write_text("precious")
+    with pytest.raises(FileExistsError, match="not a rosbag2 folder"):
+        export_rosbag(record, folder, overwrite=True)
+    assert (folder / "thesis.tex").read_text() == "precious"
+
+
+@pytest.mark.parametrize(
+    ("change", "match"),
+    [
+        ({"storage": "bag"}, "storage"),
+        ({"frame_id": "base_link"}, "distinct"),
+        ({"start_time_ns": -10**9}, "negative"),
+    ],
+)
+def test_bad_options(record: EpisodeRecord, tmp_path: Path, change: dict, match: str) -> None:
+    with pytest.raises(ValueError, match=match):
+        export_rosbag(record, tmp_path / "bag", **change)
+    assert not (tmp_path / "bag").exists()
+
+
+def test_bad_record(record: EpisodeRecord, tmp_path: Path) -> None:
+    poses = record.robot_poses.copy()
+    poses[3, 0] = np.nan
+    bad = synthetic_record()
+    bad.robot_poses = poses
+    with pytest.raises(ValueError, match="robot_poses"):
+        export_rosbag(bad, tmp_path / "bag")
+    bad = synthetic_record()
+    bad.times = bad.times[::-1].copy()
+    with pytest.raises(ValueError, match="non-decreasing"):
+        export_rosbag(bad, tmp_path / "bag")
+
+
+def test_read_rejects_non_bag(tmp_path: Path) -> None:
+    with pytest.raises(FileNotFoundError, match=r"metadata\.yaml"):
+        read_rosbag_poses(tmp_path)
+
+
+def test_missing_rosbags_names_the_extra(monkeypatch: pytest.MonkeyPatch,
+                                         record: EpisodeRecord, tmp_path: Path) -> None:
+    real_import = builtins.__import__
+
+    def fake_import(name: str, *args: object, **kwargs: object) -> object:
+        if name.startswith("rosbags"):
+            raise ImportError(f"No module named {name!r}")
+        return real_import(name, *args, **kwargs)
+
+    monkeypatch.setattr(builtins, "__import__", fake_import)
+    with pytest.raises(ImportError, match=r"socialnav\[rosbag\]"):
+        rb.export_rosbag(record, tmp_path / "bag")
