@@ -1,4 +1,4 @@
-"""One local-planner cycle: rollout, all navigation critics (incl. the per-cycle BFS grids), selection.
+"""One local-planner cycle: rollout, all navigation critics (incl. per-cycle BFS grids), selection.
 
 Run: ``.venv/bin/python benchmarks/bench_planner.py [--quick]``.
 
@@ -23,24 +23,23 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from harness import Case, Row, print_rows, time_case  # noqa: E402
-
-from socialnav.core.robot import PR2  # noqa: E402
-from socialnav.moo.selection import WeightedSum  # noqa: E402
-from socialnav.planner.context import PlanningContext  # noqa: E402
-from socialnav.planner.critics import (  # noqa: E402
+from harness import Case, Row, print_rows, time_case
+from socialnav.core.robot import PR2
+from socialnav.moo.selection import WeightedSum
+from socialnav.planner.context import PlanningContext
+from socialnav.planner.critics import (
     GoalDistanceCritic,
     HeadingCritic,
     OccupancyCritic,
     PathDistanceCritic,
 )
-from socialnav.planner.critics.occupancy import footprint_outline  # noqa: E402
-from socialnav.planner.local_planner import LocalPlannerParams, traditional_planner  # noqa: E402
-from socialnav.planner.objectives import Objective, evaluate  # noqa: E402
-from socialnav.planner.rollout import RolloutParams, rollout  # noqa: E402
-from socialnav.world.grid import INSCRIBED, LETHAL, UNKNOWN, GridGeometry  # noqa: E402
-from socialnav.world.inflation import inflate  # noqa: E402
-from socialnav.world.raster import rasterize  # noqa: E402
+from socialnav.planner.critics.occupancy import footprint_outline
+from socialnav.planner.local_planner import LocalPlannerParams, traditional_planner
+from socialnav.planner.objectives import Objective, evaluate
+from socialnav.planner.rollout import RolloutParams, rollout
+from socialnav.world.grid import INSCRIBED, LETHAL, UNKNOWN, GridGeometry
+from socialnav.world.inflation import inflate
+from socialnav.world.raster import rasterize
 
 LOOP_SAMPLES = 20
 ROBOT = PR2
@@ -120,7 +119,7 @@ def python_loop(twists: np.ndarray, params: RolloutParams, reach: float):
     objs = objectives(True)
     evaluate(objs, rollout(POSE, VEL, twists[:1], ROBOT, params), ctx)  # fills the BFS grids
     pgrid, ggrid = ctx.extras["path_distance_grid"], ctx.extras["goal_distance_grid"]
-    costs = COSTMAP.costs
+    costs = COSTMAP.costs.tolist()  # nested lists: the fastest plain-Python cell lookup
     ox, oy = COSTMAP.geometry.origin
     res = COSTMAP.resolution
     outline = [tuple(p) for p in footprint_outline(ROBOT.polygon, res / 2)]
@@ -128,11 +127,11 @@ def python_loop(twists: np.ndarray, params: RolloutParams, reach: float):
                   * float(np.hypot(twists[:, 0], twists[:, 1]).max()))
     steps = max(steps, 1)
     dt = params.sim_time / steps
-    dense, s_arc, tangent = ctx.extras["heading_plan"]
+    dense, _, tangent = ctx.extras["heading_plan"]
     dense_l = [tuple(p) for p in dense]
 
     def cell(x, y):
-        return int(math.floor((y - oy) / res)), int(math.floor((x - ox) / res))
+        return math.floor((y - oy) / res), math.floor((x - ox) / res)
 
     def run():
         best, best_i = math.inf, -1
@@ -145,7 +144,7 @@ def python_loop(twists: np.ndarray, params: RolloutParams, reach: float):
                 y += (vx * s + vy * c) * dt
                 th += w * dt
                 r, q = cell(x, y)
-                cc = int(costs[r, q])
+                cc = costs[r][q]
                 if cc >= INSCRIBED:
                     legal = False
                     break
@@ -153,7 +152,7 @@ def python_loop(twists: np.ndarray, params: RolloutParams, reach: float):
                 c, s = math.cos(th), math.sin(th)
                 for bx, by in outline:
                     r, q = cell(x + c * bx - s * by, y + s * bx + c * by)
-                    if int(costs[r, q]) in (LETHAL, UNKNOWN):
+                    if costs[r][q] in (LETHAL, UNKNOWN):
                         legal = False
                         break
                 if not legal:

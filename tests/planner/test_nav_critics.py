@@ -49,6 +49,43 @@ def test_bfs_goes_around_a_wall_and_marks_enclosed_cells_unreachable():
     assert np.isinf(bfs_distance(enclosed, np.array([[0, 0]]))[2, 2])
 
 
+def _reference_bfs(passable, seeds):
+    from collections import deque
+
+    dist = np.full(passable.shape, np.inf)
+    queue = deque()
+    for r, c in seeds:
+        dist[r, c] = 0
+        queue.append((r, c))
+    while queue:
+        r, c = queue.popleft()
+        for rr, cc in ((r + 1, c), (r - 1, c), (r, c + 1), (r, c - 1)):
+            if (0 <= rr < passable.shape[0] and 0 <= cc < passable.shape[1]
+                    and passable[rr, cc] and np.isinf(dist[rr, cc])):
+                dist[rr, cc] = dist[r, c] + 1
+                queue.append((rr, cc))
+    return dist
+
+
+@pytest.mark.parametrize("seed", range(12))
+def test_bfs_matches_a_queue_bfs_on_random_maps(seed):
+    rng = np.random.default_rng(seed)
+    rows, cols = rng.integers(1, 40, 2)
+    passable = rng.random((rows, cols)) > rng.uniform(0.0, 0.5)
+    seeds = np.argwhere(rng.random((rows, cols)) < 0.03)  # seeds may sit on blocked cells
+    seeds = seeds if seeds.size else np.array([[0, 0]])
+    np.testing.assert_array_equal(bfs_distance(passable, seeds), _reference_bfs(passable, seeds))
+
+
+def test_bfs_counts_past_255_steps():
+    passable = np.ones((41, 41), dtype=bool)
+    passable[1::4, :-1] = False  # a serpentine corridor
+    passable[3::4, 1:] = False
+    d = bfs_distance(passable, np.array([[0, 0]]))
+    np.testing.assert_array_equal(d, _reference_bfs(passable, np.array([[0, 0]])))
+    assert d[np.isfinite(d)].max() > 255
+
+
 def test_bfs_early_stop_is_exact_inside_the_settled_region():
     rng = np.random.default_rng(3)
     passable = rng.random((40, 50)) > 0.25
@@ -180,9 +217,12 @@ def test_shortcuts_agree_with_checking_every_pose(robot):
     ctx = lambda: context(cm, robot, pose=(*starts, 0.0))  # noqa: E731 - fresh extras
     exhaustive = OccupancyCritic(circumscribed_cost=0).score(tr, ctx())
     masked = OccupancyCritic().score(tr, ctx())
+    boxed_ctx = ctx()
+    boxed_ctx.extras["reach"] = 0.6  # the mask is then only computed near the robot
+    boxed = OccupancyCritic().score(tr, boxed_ctx)
     thr = circumscribed_cost(robot.circumscribed_radius, robot.inscribed_radius, resolution=0.05)
     threshold = OccupancyCritic(circumscribed_cost=thr).score(tr, ctx())
-    for other in (masked, threshold):
+    for other in (masked, boxed, threshold):
         np.testing.assert_array_equal(other.cost, exhaustive.cost)
         for k in exhaustive.illegal:
             np.testing.assert_array_equal(other.illegal[k], exhaustive.illegal[k])

@@ -62,3 +62,47 @@ def test_dead_end_recovers_then_gives_up_without_collision():
     assert statuses[-1] == PlannerStatus.STUCK
     assert PlannerStatus.RECOVERING in statuses and PlannerStatus.OK in statuses
     assert 2.5 < pose[0] < 5.0
+
+
+class _Goal:
+    def __init__(self, pose, is_waypoint):
+        self.pose = np.asarray(pose, dtype=float)
+        self.is_waypoint = is_waypoint
+        self.position_tolerance = 0.2
+        self.yaw_tolerance = 0.2
+
+
+def test_waypoint_social_goal_is_visited_first_then_the_given_goal():
+    cm, _ = world(8.0, 4.0, CORRIDOR, PR2)
+    waypoint = _Goal((3.5, 2.8, 0.0), True)
+    nav = Navigator(PR2, RecoveringPlanner(traditional_planner(PR2)), cm,
+                    np.array([6.5, 2.0, 0.0]), social_goal_fn=lambda s, g, p: waypoint)
+    pose, vel = np.array([1.0, 2.0, 0.0]), np.zeros(3)
+    closest = np.inf
+    for k in range(500):
+        res = nav.step(0.1 * k, pose, vel, SocialContext())
+        if res.status == PlannerStatus.GOAL_REACHED:
+            break
+        vel = res.cmd
+        pose = step_pose(pose, vel)
+        closest = min(closest, np.hypot(*(pose[:2] - waypoint.pose[:2])))
+    assert res.status == PlannerStatus.GOAL_REACHED
+    assert closest <= 0.2 + 1e-9
+    assert np.hypot(pose[0] - 6.5, pose[1] - 2.0) <= 0.1 + 1e-9
+
+
+def test_navigator_step_never_raises():
+    cm, _ = world(8.0, 4.0, CORRIDOR, PR2)
+
+    def broken(social, goal, pose):
+        raise RuntimeError("perception failed")
+
+    nav = Navigator(PR2, traditional_planner(PR2), cm, np.array([6.5, 2.0, 0.0]),
+                    social_goal_fn=broken)
+    res = nav.step(0.0, np.array([1.0, 2.0, 0.0]), np.zeros(3), SocialContext())
+    assert res.status == PlannerStatus.INVALID_INPUT and "perception failed" in res.message
+    nav = Navigator(PR2, traditional_planner(PR2), cm, np.array([6.5, 2.0, 0.0]))
+    res = nav.step(0.0, np.array([np.nan, 2.0, 0.0]), np.zeros(3), SocialContext())
+    assert res.status == PlannerStatus.INVALID_INPUT and np.all(res.cmd == 0)
+    res = nav.step(0.0, np.array([1.0, 2.0, 0.0]), np.zeros(3), SocialContext())
+    assert res.status == PlannerStatus.OK

@@ -95,6 +95,7 @@ class LocalPlannerParams:
     heading_scale: float = 0.2
     heading_lookahead: float = 0.325
     footprint_check: bool = True
+    rollout_dtype: str = "float64"  # "float32" is ~1.5x faster for large batches
     # oscillation
     oscillation_reset_dist: float = 0.05
     oscillation_reset_angle: float = 0.2
@@ -105,6 +106,9 @@ class LocalPlannerParams:
             validate_rollout(self)
         except ValueError as exc:
             raise ConfigurationError(str(exc)) from None
+        if self.rollout_dtype not in ("float64", "float32"):
+            raise ConfigurationError(f"rollout_dtype must be float64 or float32, "
+                                     f"got {self.rollout_dtype!r}")
         for name in ("xy_goal_tolerance", "yaw_goal_tolerance", "path_distance_bias",
                      "goal_distance_bias", "occdist_scale", "heading_scale",
                      "oscillation_reset_dist", "oscillation_reset_angle"):
@@ -331,7 +335,8 @@ class LocalPlanner:
             return PlannerStatus.NO_LEGAL_TRAJECTORY, _zero(), "no velocity samples", None
         reach = float(np.hypot(twists[:, 0], twists[:, 1]).max()) * p.sim_time
         ctx.extras.setdefault("reach", reach + 2.0 * ctx.costmap.resolution)
-        trajs = rollout(ctx.pose, ctx.velocity, twists, self.robot, p)
+        trajs = rollout(ctx.pose, ctx.velocity, twists, self.robot, p,
+                        dtype=np.dtype(p.rollout_dtype).type)
         t2 = time.perf_counter()
         t["rollout"] = t2 - t1
         cycle.trajs = trajs

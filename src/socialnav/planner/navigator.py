@@ -38,6 +38,8 @@ from socialnav.world.costmap import crop
 from socialnav.world.grid import Costmap
 
 SocialGoalFn = Callable[[SocialContext, FloatArray, FloatArray], Any]
+# Per-cycle layer on the local window (e.g. a proxemic layer): (local costmap, people) -> costmap.
+CostmapLayer = Callable[[Costmap, SocialContext], Costmap]
 
 
 class Navigator:
@@ -58,6 +60,7 @@ class Navigator:
         prune_lookahead: float = 2.0,
         straight_line_fallback: bool = True,
         record: bool = False,
+        costmap_layer: CostmapLayer | None = None,
     ) -> None:
         g = np.asarray(goal, dtype=float)
         if g.shape != (3,) or not np.all(np.isfinite(g)):
@@ -77,6 +80,7 @@ class Navigator:
         self.prune_lookahead = float(prune_lookahead)
         self.straight_line_fallback = straight_line_fallback
         self.record = record
+        self.costmap_layer = costmap_layer
         self.reset()
 
     def reset(self) -> None:
@@ -112,6 +116,8 @@ class Navigator:
             return PlannerResult(np.zeros(3), PlannerStatus.NO_PATH, None,
                                  f"global planner: {self.last_plan_status}")
         local = crop(self.costmap, pose[:2], self.window_size)
+        if self.costmap_layer is not None:
+            local = self.costmap_layer(local, social)
         ctx = PlanningContext(
             pose=pose,
             velocity=velocity,

@@ -85,11 +85,29 @@ class OccupancyCritic(Critic):
         ctx.extras["occupancy_outline"] = footprint_outline(ctx.robot.polygon, 0.5 * res)
         if self.circumscribed_cost is None:
             # Centre cells from which a footprint of circumscribed radius R can reach a
-            # LETHAL/UNKNOWN cell or leave the map: a (2r+1)² max filter, r = ceil(R/res)+1.
+            # LETHAL/UNKNOWN cell or leave the map: a (2r+1)² max filter, r = ceil(R/res)+1,
+            # over the map or — when the planner published its ``reach`` — only the box the
+            # rollouts can enter (poses outside it are then always checked).
             r = math.ceil(ctx.robot.circumscribed_radius / res) + 1
-            hard = (ctx.costmap.costs >= LETHAL).view(np.uint8)
-            near = maximum_filter(hard, size=2 * r + 1, mode="constant", cval=1)
-            ctx.extras["occupancy_near"] = near.astype(bool)
+            rows, cols = ctx.costmap.geometry.shape
+            r0, r1, c0, c1 = 0, rows, 0, cols
+            reach = ctx.extras.get("reach")
+            if reach is not None:
+                lo = ctx.costmap.geometry.world_to_cell(ctx.pose[:2] - reach)
+                hi = ctx.costmap.geometry.world_to_cell(ctx.pose[:2] + reach)
+                r0, c0 = max(int(lo[0]) - 1, 0), max(int(lo[1]) - 1, 0)
+                r1, c1 = min(int(hi[0]) + 2, rows), min(int(hi[1]) + 2, cols)
+            near = np.ones((rows, cols), dtype=bool)
+            if r0 < r1 and c0 < c1:
+                # the filter needs the obstacles up to r cells beyond the box
+                a0, a1 = max(r0 - r, 0), min(r1 + r, rows)
+                b0, b1 = max(c0 - r, 0), min(c1 + r, cols)
+                # cval=1: off-map is an obstacle; the sub-array's inner borders lie beyond
+                # every window centred in the box, so they do not leak in.
+                hard = (ctx.costmap.costs[a0:a1, b0:b1] >= LETHAL).view(np.uint8)
+                filt = maximum_filter(hard, size=2 * r + 1, mode="constant", cval=1)
+                near[r0:r1, c0:c1] = filt[r0 - a0 : r1 - a0, c0 - b0 : c1 - b0].astype(bool)
+            ctx.extras["occupancy_near"] = near
 
     def score(self, trajs: Trajectories, ctx: PlanningContext) -> CriticScore:
         geom = ctx.costmap.geometry

@@ -107,32 +107,60 @@ def bfs_distance(
     Seeds are distance 0 whatever their cost (ROS); the wavefront only enters ``passable`` cells;
     unreached cells are ``inf``. With ``settle`` (a region), the search stops as soon as every
     passable cell of the region has been reached — values there are exact.
+
+    Implementation: a dense frontier BFS on a flat, padded copy of the grid (one blocked column
+    and a blocked row above and below), so the four neighbour shifts are contiguous 1-D slices
+    (``±1``, ``±width``) — about 4× faster than 2-D column slices. Each cell's distance is the
+    number of iterations it stayed open, accumulated with one uint8 add per iteration (a masked
+    assignment of ``k`` would cost ~50× more).
     """
-    shape = passable.shape
-    visited = np.zeros(shape, dtype=bool)
-    visited[seeds[:, 0], seeds[:, 1]] = True
-    closed = visited | ~passable
-    front = visited.copy()
-    nb = np.empty(shape, dtype=bool)
-    count = np.zeros(shape, dtype=np.uint16)  # iterations each cell has spent visited
+    rows, cols = passable.shape
+    w = cols + 1
+    n = (rows + 2) * w
+
+    def inner(flat: np.ndarray) -> np.ndarray:
+        return flat[w : w + rows * w].reshape(rows, w)[:, :cols]
+
+    open_ = np.zeros(n, dtype=bool)
+    inner(open_)[...] = passable
+    seed_flat = (seeds[:, 0] + 1) * w + seeds[:, 1]
+    front = np.zeros(n, dtype=bool)
+    front[seed_flat] = True
+    open_[seed_flat] = False
+    nb = np.empty(n, dtype=bool)
+    # Iterations each cell spent open = its distance. A uint8 add is ~3× cheaper than a
+    # bool→uint16 one; it is flushed into ``total`` before it can overflow.
+    count = np.zeros(n, dtype=np.uint8)
+    total = np.zeros(n, dtype=np.uint16)
+    open_u8 = open_.view(np.uint8)
+    region = inner(open_)[settle] if settle is not None else None
     k = 0
     while True:
-        np.add(count, visited, out=count, casting="unsafe")
+        np.add(count, open_u8, out=count)
         k += 1
-        if settle is not None and closed[settle].all():
-            break
-        nb[0] = False
-        np.copyto(nb[1:], front[:-1])
-        nb[:-1] |= front[1:]
-        nb[:, 1:] |= front[:, :-1]
-        nb[:, :-1] |= front[:, 1:]
-        nb &= ~closed
-        if not nb.any():
-            break
-        closed |= nb
-        visited |= nb
+        if k % 250 == 0:
+            total += count
+            count[:] = 0
+        nb[:w] = False
+        np.copyto(nb[w:], front[:-w])
+        np.bitwise_or(nb[:-w], front[w:], out=nb[:-w])
+        np.bitwise_or(nb[1:], front[:-1], out=nb[1:])
+        np.bitwise_or(nb[:-1], front[1:], out=nb[:-1])
+        np.bitwise_and(nb, open_, out=nb)
+        np.bitwise_xor(open_, nb, out=open_)  # nb ⊆ open_: removes the newly reached cells
         front, nb = nb, front
-    return np.where(visited, np.float32(k) - count.astype(np.float32), np.float32(np.inf))
+        # Extra iterations only inflate the counts of still-open (unreached → inf) cells, so
+        # the termination tests can run every few iterations.
+        if k % 4 == 0 and (
+            not front.any() or (region is not None and not region.any())
+        ):
+            break
+    total += count
+    dist = inner(total).astype(np.float32)
+    reached = ~inner(open_) & passable
+    reached[seeds[:, 0], seeds[:, 1]] = True
+    dist[~reached] = np.inf
+    return dist
 
 
 def settle_region(ctx: PlanningContext) -> tuple[slice, slice] | None:
