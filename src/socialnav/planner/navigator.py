@@ -34,7 +34,7 @@ from socialnav.core.scene import SocialContext
 from socialnav.planner.context import PlanningContext
 from socialnav.planner.global_planner import plan_path
 from socialnav.planner.local_planner import PlannerResult, PlannerStatus
-from socialnav.world.costmap import crop
+from socialnav.world.costmap import add_obstacle_discs, crop
 from socialnav.world.grid import Costmap
 
 SocialGoalFn = Callable[[SocialContext, FloatArray, FloatArray], Any]
@@ -61,6 +61,7 @@ class Navigator:
         straight_line_fallback: bool = True,
         record: bool = False,
         costmap_layer: CostmapLayer | None = None,
+        people_as_obstacles: bool = True,
     ) -> None:
         g = np.asarray(goal, dtype=float)
         if g.shape != (3,) or not np.all(np.isfinite(g)):
@@ -81,6 +82,7 @@ class Navigator:
         self.straight_line_fallback = straight_line_fallback
         self.record = record
         self.costmap_layer = costmap_layer
+        self.people_as_obstacles = people_as_obstacles
         self.reset()
 
     def reset(self) -> None:
@@ -111,11 +113,12 @@ class Navigator:
                                  "pose, velocity and time must be finite; pose/velocity (3,)")
         social_goal = self._social_goal(social, pose)
         target = self._target(social_goal, pose)
-        path = self._global_path(time, pose, target)
+        path = self._global_path(time, pose, target, social)
         if path is None:
             return PlannerResult(np.zeros(3), PlannerStatus.NO_PATH, None,
                                  f"global planner: {self.last_plan_status}")
         local = crop(self.costmap, pose[:2], self.window_size)
+        local = self._with_people(local, social)
         if self.costmap_layer is not None:
             local = self.costmap_layer(local, social)
         ctx = PlanningContext(
@@ -152,14 +155,21 @@ class Navigator:
             return self.goal
         return sg_pose
 
-    def _global_path(self, time: float, pose: FloatArray, target: FloatArray
-                     ) -> FloatArray | None:
+    def _with_people(self, costmap: Costmap, social: SocialContext) -> Costmap:
+        """People as obstacles, as a laser-fed obstacle layer shows them to every planner."""
+        if not (self.people_as_obstacles and social.people):
+            return costmap
+        discs = np.column_stack([social.positions(), social.radii()])
+        return add_obstacle_discs(costmap, discs, self.robot.inscribed_radius)
+
+    def _global_path(self, time: float, pose: FloatArray, target: FloatArray,
+                     social: SocialContext) -> FloatArray | None:
         changed = self._path_target is None or (
             np.hypot(*(target[:2] - self._path_target[:2])) > 0.05
             or abs(float(wrap_angle(target[2] - self._path_target[2]))) > 0.05
         )
         if changed or time - self._plan_time >= self.replan_period or self._path is None:
-            plan = plan_path(self.costmap, pose[:2], target[:2])
+            plan = plan_path(self._with_people(self.costmap, social), pose[:2], target[:2])
             self.last_plan_status = plan.status
             self._plan_time = time
             if plan.path is not None and plan.path.shape[0] > 0:

@@ -63,3 +63,32 @@ def combine_max(
     if overwrite_unknown:
         combined = np.where((base == UNKNOWN) & (layer != UNKNOWN), layer, combined)
     return Costmap(combined.astype(np.uint8), costmap.geometry)
+
+
+def add_obstacle_discs(
+    costmap: Costmap,
+    discs: ArrayLike,
+    inscribed_radius: float,
+    inflation_radius: float = 0.55,
+    cost_scaling_factor: float = 10.0,
+) -> Costmap:
+    """Mark discs ``(D, 3)`` ``[x, y, r]`` as obstacles and re-inflate — costmap_2d's obstacle
+    layer seeing people in the laser scan, the way the ROS planner avoids people it treats as
+    obstacles. Existing LETHAL and UNKNOWN cells are kept."""
+    from socialnav.world.grid import LETHAL
+    from socialnav.world.inflation import inflate
+    from socialnav.world.raster import rasterize
+
+    d = np.asarray(discs, dtype=float).reshape(-1, 3)
+    if d.shape[0] == 0:
+        return costmap
+    occupied = (costmap.costs == LETHAL) | rasterize(costmap.geometry, discs=d)
+    unknown = costmap.costs == UNKNOWN
+    return inflate(
+        occupied,
+        costmap.geometry,
+        inscribed_radius,
+        inflation_radius,
+        cost_scaling_factor,
+        unknown=unknown,
+    )
