@@ -62,6 +62,7 @@ class Navigator:
         record: bool = False,
         costmap_layer: CostmapLayer | None = None,
         people_as_obstacles: bool = True,
+        global_layer: CostmapLayer | None = None,
     ) -> None:
         g = np.asarray(goal, dtype=float)
         if g.shape != (3,) or not np.all(np.isfinite(g)):
@@ -83,6 +84,7 @@ class Navigator:
         self.record = record
         self.costmap_layer = costmap_layer
         self.people_as_obstacles = people_as_obstacles
+        self.global_layer = global_layer
         self.reset()
 
     def reset(self) -> None:
@@ -169,7 +171,10 @@ class Navigator:
             or abs(float(wrap_angle(target[2] - self._path_target[2]))) > 0.05
         )
         if changed or time - self._plan_time >= self.replan_period or self._path is None:
-            plan = plan_path(self._with_people(self.costmap, social), pose[:2], target[:2])
+            costmap = self._with_people(self.costmap, social)
+            if self.global_layer is not None:
+                costmap = self.global_layer(costmap, social)
+            plan = plan_path(costmap, pose[:2], target[:2])
             self.last_plan_status = plan.status
             self._plan_time = time
             if plan.path is not None and plan.path.shape[0] > 0:
