@@ -60,9 +60,10 @@ def test_gallery_activity_waypoint_then_none():
     ctx = art_ctx((13.0, 22.5))
     goal = resolve_social_goal(ctx, (19, 23.8, 0), (7, 23.8, 0))
     assert goal is not None and goal.is_waypoint and goal.kind == "waypoint"
-    np.testing.assert_allclose(goal.position, [13.0, 21.3], atol=1e-9)
+    # behind the viewer, 1.6 m away: just outside the interpersonal-distance objective's 1.5 m
+    np.testing.assert_allclose(goal.position, [13.0, 20.9], atol=1e-9)
     # at the waypoint and beyond, the straight line to the goal is clear: no social goal
-    assert resolve_social_goal(ctx, (19, 23.8, 0), (13.0, 21.3, 0)) is None
+    assert resolve_social_goal(ctx, (19, 23.8, 0), (13.0, 20.9, 0)) is None
     assert resolve_social_goal(ctx, (19, 23.8, 0), (16.0, 23.0, 0)) is None
 
 

@@ -115,6 +115,8 @@ class Navigator:
                                  "pose, velocity and time must be finite; pose/velocity (3,)")
         social_goal = self._social_goal(social, pose)
         target = self._target(social_goal, pose)
+        if target is self.goal:
+            social_goal = None  # a passed waypoint no longer pulls the robot back
         path = self._global_path(time, pose, target, social)
         if path is None:
             return PlannerResult(np.zeros(3), PlannerStatus.NO_PATH, None,

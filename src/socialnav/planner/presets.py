@@ -30,7 +30,7 @@ from socialnav.core.registry import Registry
 from socialnav.core.robot import RobotModel
 from socialnav.core.scene import SocialContext
 from socialnav.moo.paccet import PaccetOptions
-from socialnav.moo.scalarize import Weighted
+from socialnav.moo.scalarize import L1Target, Weighted
 from socialnav.moo.selection import PaccetSelection, SelectionStrategy, WeightedSum
 from socialnav.planner.critics.activity_space import ActivitySpaceCritic
 from socialnav.planner.critics.group import GroupCritic
@@ -119,8 +119,22 @@ def paper_selection(weights: list[float]) -> SelectionStrategy:
     return PaccetSelection(Weighted(weights), PaccetOptions.reference())
 
 
+# The recommended scalarization: L1 distance to a target on the flattened front that gives the
+# navigation objective 0.7 of the simplex and shares 0.3 among the social objectives.
+RECOMMENDED_NAVIGATION_SHARE = 0.7
+
+
+def recommended_target(m: int) -> np.ndarray:
+    """Target point on the simplex for ``m`` objectives, navigation first."""
+    if m == 1:
+        return np.ones(1)
+    target = np.full(m, (1.0 - RECOMMENDED_NAVIGATION_SHARE) / (m - 1))
+    target[0] = RECOMMENDED_NAVIGATION_SHARE
+    return target
+
+
 def recommended_selection(weights: list[float]) -> SelectionStrategy:
-    return PaccetSelection(Weighted(weights), PaccetOptions())
+    return PaccetSelection(L1Target(recommended_target(len(weights))), PaccetOptions())
 
 
 def weighted_sum(weights: list[float]) -> SelectionStrategy:
@@ -168,10 +182,11 @@ PRESETS.add(
 PRESETS.add(
     "paccet",
     PlannerPreset(
-        "PaCcET, recommended: forecast people, degeneracy remedies on, activity-space objective",
+        "PaCcET, recommended: forecast people, L1 target, remedies on, social global path",
         recommended_objectives,
         recommended_selection,
         social_goal=True,
+        social_global_path=True,
     ),
 )
 

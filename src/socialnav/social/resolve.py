@@ -15,6 +15,8 @@ chosen from the :class:`~socialnav.core.scene.SocialContext` and the goal the ro
 2. Otherwise, *passing*: if the straight robot→goal segment comes within ``activity_margin``
    (0.3 m) of an activity space, a waypoint behind that viewer (the crossed space nearest the
    robot); the rule is stateless, so the waypoint disappears once the straight segment is clear.
+   The waypoint keeps ``waypoint_clearance`` (1.6 m) from the viewer: outside the 1.5 m range of
+   the interpersonal-distance objective, so reaching the waypoint does not fight that objective.
 3. Otherwise ``None``: navigate to the given goal.
 
 Empty groups/queues are skipped; degenerate ones get the goal functions' fallbacks. NaN or
@@ -48,6 +50,7 @@ def resolve_social_goal(
     group_margin: float = 1.0,
     viewer_radius: float = 1.6,
     activity_margin: float = 0.3,
+    waypoint_clearance: float = 1.6,
     free_fn: FreeFn | None = None,
 ) -> SocialGoal | None:
     """The applicable social goal for ``given_goal (3,)`` seen from ``robot_pose (3,)``, or None.
@@ -125,7 +128,14 @@ def resolve_social_goal(
             poly = activity_space_polygon(art.center, art.width, art.facing, v)
             if segment_polygon_distance(robot, g, poly) < activity_margin:
                 wp = activity_space_waypoint(
-                    art.center, art.width, art.facing, v, robot, g, margin=activity_margin
+                    art.center,
+                    art.width,
+                    art.facing,
+                    v,
+                    robot,
+                    g,
+                    clearance=waypoint_clearance,
+                    margin=activity_margin,
                 )
                 crossing.append((float(np.linalg.norm(poly.mean(axis=0) - robot)), wp))
     if crossing:
