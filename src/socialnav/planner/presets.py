@@ -49,6 +49,11 @@ from socialnav.world.grid import Costmap
 # The reference navigation code's scalarization weights, by objective kind.
 PAPER_WEIGHTS = {"navigation": 0.4, "ID": 0.5, "GD": 0.0, "SGD": 1.0, "AS": 0.5}
 PAPER_MAX_PEOPLE = 3
+SGD_ACTIVE_WITHIN = 2.5
+# The rolling local costmap (m, square): ROS configurations use 4–6 m. The goal-distance critic
+# seeds its grid at the last plan point inside it, so a smaller window keeps the local goal on
+# the global path instead of pulling straight across (e.g. through a group) to a goal in view.
+LOCAL_WINDOW = 5.0
 
 
 @dataclass(frozen=True)
@@ -97,7 +102,8 @@ def paper_objectives(
 def recommended_objectives(
     social: SocialContext, social_goal: bool, params: LocalPlannerParams
 ) -> list[tuple[Objective, float]]:
-    """Navigation, one ID over all people forecast along the rollout, GD, SGD, activity space."""
+    """Navigation (to the social goal), one ID over all people forecast along the rollout, GD,
+    SGD near the social goal, activity space."""
     out = [(traditional_objectives(params)[0], PAPER_WEIGHTS["navigation"])]
     if social.people:
         critic = InterpersonalCritic(evaluation="max_over_time")
@@ -106,9 +112,10 @@ def recommended_objectives(
         critic = GroupCritic(evaluation="max_over_time", illegal_inside=True)
         out.append((Objective("GD", ((critic, 1.0),)), PAPER_WEIGHTS["ID"]))
     if social_goal:
-        out.append(
-            (Objective("SGD", ((SocialGoalCritic(relative=True), 1.0),)), PAPER_WEIGHTS["SGD"])
-        )
+        # SGD only within 2 m of the social goal: farther away, navigation (which steers to the
+        # social goal around people) leads and exp(SGD) cannot pull the robot through a group.
+        critic = SocialGoalCritic(relative=True, active_within=SGD_ACTIVE_WITHIN)
+        out.append((Objective("SGD", ((critic, 1.0),)), PAPER_WEIGHTS["SGD"]))
     if any(a.viewer_ids for a in social.artworks):
         critic = ActivitySpaceCritic(measure="max_depth")
         out.append((Objective("AS", ((critic, 1.0),)), PAPER_WEIGHTS["AS"]))
@@ -253,6 +260,8 @@ def build_navigator(
             return combine_max(local_costmap, costs)
 
     global_layer = personal_space_layer if preset.social_global_path else None
+    if preset.proxemic_layer:
+        global_layer = layer  # a ROS user adds the social layer to both costmaps
     return Navigator(
         robot,
         local,
@@ -263,15 +272,19 @@ def build_navigator(
         record=record,
         costmap_layer=layer,
         global_layer=global_layer,
+        window_size=LOCAL_WINDOW,
     )
 
 
-# A Gaussian personal-space cost for global planning: 200 at the person, 27 at 1.2 m (σ = 0.6 m),
-# so the global path keeps to the social zone where the map leaves room.
+# A Gaussian personal-space cost for global planning: 250 at the person, about 80 at 1.2 m
+# (σ = 0.8 m), so the global path keeps to the social zone where the map leaves room; groups'
+# o-spaces cost OSPACE_COST, so no plan threads between the members of a conversation.
 PERSONAL_SPACE_LAYER = {"amplitude": 250.0, "variance": 0.64, "cutoff": 5.0}
+OSPACE_COST = 220
 
 
 def personal_space_layer(costmap: Costmap, social: SocialContext) -> Costmap:
+    from socialnav.social.spaces import o_space
     from socialnav.world.costmap import combine_max
     from socialnav.world.proxemic_layer import proxemic_costs
 
@@ -280,4 +293,12 @@ def personal_space_layer(costmap: Costmap, social: SocialContext) -> Costmap:
     costs = proxemic_costs(
         costmap.geometry, social.positions(), social.velocities(), **PERSONAL_SPACE_LAYER
     )
+    if social.groups:
+        xs, ys = costmap.geometry.cell_centers()
+        for group in social.groups:
+            if len(group.member_ids) < 2:
+                continue
+            center, radius = o_space(social.positions(group.member_ids))
+            inside = np.hypot(xs - center[0], ys - center[1]) <= radius
+            costs[inside] = np.maximum(costs[inside], OSPACE_COST)
     return combine_max(costmap, costs)

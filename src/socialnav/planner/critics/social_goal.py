@@ -42,7 +42,11 @@ class SocialGoalCritic(Critic):
     """``SGD_f = exp(SGD)`` at the trajectory end (module docstring for the options).
 
     Parameters: ``relative`` (bool), ``max_exponent`` (m), ``heading_weight`` (cost/rad, 0 =
-    off), ``heading_radius`` (m).
+    off), ``heading_radius`` (m), ``active_within`` (m or None): when set, the cost is 0 while
+    the robot is farther than this from the social goal — far away the navigation objective
+    (which already steers to the goal around people) leads, and the straight-line pull of
+    ``exp(SGD)`` cannot drag the robot through a group; close by it overcomes the
+    interpersonal objective of the people the robot is joining.
     """
 
     name: ClassVar[str] = "social_goal"
@@ -52,10 +56,13 @@ class SocialGoalCritic(Critic):
     max_exponent: float = 50.0
     heading_weight: float = 0.0
     heading_radius: float = 0.5
+    active_within: float | None = None
 
     def __post_init__(self) -> None:
         if not 0 < self.max_exponent <= 700:
             raise ConfigurationError("social_goal: max_exponent must be in (0, 700]")
+        if self.active_within is not None and not self.active_within > 0:
+            raise ConfigurationError("social_goal: active_within must be positive or None")
         if self.heading_weight < 0 or self.heading_radius < 0:
             raise ConfigurationError("social_goal: heading_weight, heading_radius must be >= 0")
 
@@ -64,11 +71,14 @@ class SocialGoalCritic(Critic):
         if ctx.social_goal is None:
             return CriticScore(np.zeros(n))
         goal = _goal_pose(ctx.social_goal)
+        now = float(np.linalg.norm(ctx.pose[:2] - goal[:2]))
+        if self.active_within is not None and now > self.active_within:
+            return CriticScore(np.zeros(n))
         end = trajs.end_poses
         sgd = np.linalg.norm(end[:, :2] - goal[:2], axis=1)
         exponent = sgd
         if self.relative:
-            exponent = sgd - float(np.linalg.norm(ctx.pose[:2] - goal[:2]))
+            exponent = sgd - now
         cost = np.exp(np.minimum(exponent, self.max_exponent))
         waypoint = bool(getattr(ctx.social_goal, "is_waypoint", False))
         if self.heading_weight > 0 and not waypoint and np.isfinite(goal[2]):
