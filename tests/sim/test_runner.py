@@ -82,7 +82,7 @@ def test_go_to_goal_episode_records_consistent_shapes() -> None:
     np.testing.assert_allclose(rec.people_positions[:, 0], [[10.0, 0.2]] * t, atol=1e-6)
     assert rec.scenario == "hallway_stationary" and rec.family == "hallway"
     np.testing.assert_allclose(rec.target, rec.goal)  # no social goal in a hallway
-    assert rec.walls.shape == (2, 2, 2)
+    assert rec.walls.shape == (4, 2, 2)  # two long walls and two end caps
     assert rec.meta["planner"] == "GoToGoalController" and rec.meta["robot"] == "pr2"
     # It drives straight through the person: flagged, and only near x = 10.
     hit = rec.collision_person

@@ -51,7 +51,16 @@ def test_families() -> None:
 def test_hallway_geometry() -> None:
     s = load_scenario("hallway_stationary")
     walls = s.walls_array()
-    np.testing.assert_allclose(walls, [[[0, -1.5], [20, -1.5]], [[0, 1.5], [20, 1.5]]])
+    # the two long walls of scenarios.md, then end caps that close the corridor
+    np.testing.assert_allclose(
+        walls,
+        [
+            [[0, -1.5], [20, -1.5]],
+            [[0, 1.5], [20, 1.5]],
+            [[0, -1.5], [0, 1.5]],
+            [[20, -1.5], [20, 1.5]],
+        ],
+    )
     assert s.start == (1.0, 0.0, 0.0) and s.goal[:2] == (19.0, 0.0)
     assert s.people[0].position == (10.0, 0.2)
     assert s.people[0].heading == pytest.approx(-math.pi / 2, abs=1e-4)
