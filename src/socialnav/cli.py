@@ -71,9 +71,10 @@ def compare(
 
     from socialnav.core.errors import ConfigurationError
     from socialnav.experiments.planners import PLANNERS
+    from socialnav.experiments.run import check_robot
     from socialnav.experiments.suite import run_suite, suite_specs
     from socialnav.report.build import build_report
-    from socialnav.sim.scenario import builtin_scenarios
+    from socialnav.sim.scenario import builtin_scenarios, load_scenario
 
     if suite not in ("paper", "reactive", "randomized"):
         _fail(f"unknown suite {suite!r}; use paper, reactive or randomized")
@@ -81,6 +82,10 @@ def compare(
         planner_names = _split(planners) or PLANNERS.names()
         for name in planner_names:
             PLANNERS.get(name)
+        for name in _split(robots):
+            check_robot(name)
+        for name in _split(scenarios):
+            load_scenario(name)  # an unknown name fails here, not as one error row per run
         specs = suite_specs(
             suite, _split(scenarios) or builtin_scenarios(), planner_names, _split(robots), seeds
         )

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import difflib
 import json
 from pathlib import Path
 from typing import Any
@@ -9,9 +10,19 @@ from typing import Any
 import numpy as np
 
 from socialnav.core.errors import ConfigurationError
+from socialnav.core.robot import ROBOT_MODELS
 from socialnav.experiments.planners import PLANNERS, run_planner_episode
 from socialnav.experiments.storage import save_episode
 from socialnav.experiments.suite import EpisodeSpec
+
+
+def check_robot(robot: str) -> None:
+    """Raise a :class:`ConfigurationError` with a "did you mean" for an unknown robot model."""
+    if robot not in ROBOT_MODELS:
+        close = difflib.get_close_matches(robot, ROBOT_MODELS, n=1)
+        hint = f" Did you mean {close[0]!r}?" if close else ""
+        known = ", ".join(ROBOT_MODELS)
+        raise ConfigurationError(f"unknown robot {robot!r}.{hint} Known: {known}.")
 
 
 def diagnostics_table(diagnostics: list[Any]) -> dict[str, list[Any]]:
@@ -80,8 +91,9 @@ def run_single(
     from socialnav.viz.topdown import plot_episode, save_figure
 
     PLANNERS.get(planner)
-    if robot not in ("pr2", "pioneer"):
-        raise ConfigurationError(f"unknown robot {robot!r}; use pr2 or pioneer")
+    check_robot(robot)
+    if fmt not in ("parquet", "csv"):  # checked before the episode runs, not after
+        raise ConfigurationError(f"unknown trajectory format {fmt!r}; use parquet or csv")
     if humans not in ("scripted", "reactive"):
         raise ConfigurationError(f"unknown human model {humans!r}; use scripted or reactive")
     if video not in ("none", "gif", "mp4"):

@@ -12,6 +12,10 @@ Exact definition (rad, in ``[0, pi]``), evaluated at the end pose ``(x, y, yaw)`
 4. cost = ``|wrap(yaw − desired)|``.
 Deviation from ROS: ROS picks the furthest plan point in line of sight (a costmap ray test per
 sample); the look-ahead point along the plan needs no ray casting and is vectorized.
+Near the goal (the robot within ``near_goal`` m of it) the cost is 0: the plan's last few cells
+point in arbitrary directions there, and chasing them made the robot dither short of the goal
+(the "oscillation at the goal" users report); Nav2 likewise drops its alignment critics near the
+goal, and the goal-handling stage turns the robot to the goal yaw.
 Only the first ``horizon`` m of the plan are searched (the planner's reach + 2 m), so a plan that
 loops back near the robot does not confuse the nearest-vertex search.
 """
@@ -35,13 +39,15 @@ if TYPE_CHECKING:
 @CRITICS.register("heading")
 @dataclass(frozen=True)
 class HeadingCritic(Critic):
-    """``heading_lookahead`` (m) along the plan; ``spacing`` (m) of the densified plan."""
+    """``heading_lookahead`` (m) along the plan; ``spacing`` (m) of the densified plan;
+    ``near_goal`` (m): no heading cost within this distance of the goal."""
 
     name: ClassVar[str] = "heading"
     unit: ClassVar[str] = "rad"
 
     heading_lookahead: float = 0.325
     spacing: float = 0.05
+    near_goal: float = 0.5
 
     def __post_init__(self) -> None:
         if not (self.heading_lookahead > 0 and self.spacing > 0):
@@ -69,6 +75,8 @@ class HeadingCritic(Critic):
         ctx.extras["heading_plan"] = (dense, s, tangent)
 
     def score(self, trajs: Trajectories, ctx: PlanningContext) -> CriticScore:
+        if np.hypot(*(np.asarray(ctx.pose[:2]) - np.asarray(ctx.goal[:2]))) < self.near_goal:
+            return CriticScore(np.zeros(len(trajs)))
         if "heading_plan" not in ctx.extras:
             self.prepare(ctx)
         dense, s, tangent = ctx.extras["heading_plan"]

@@ -1,0 +1,250 @@
+"""``socialnav run`` end to end: every output file of one episode, checked against the others.
+
+One hallway_passing episode per output format (module fixtures), then assertions on the files:
+the step table against the scenario, the metrics against the step table, the diagnostics
+against the step table, and the pictures as pictures.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pyarrow.csv as pacsv
+import pyarrow.parquet as pq
+import pytest
+from PIL import Image
+from typer.testing import CliRunner
+
+from socialnav.cli import app
+from socialnav.experiments.storage import load_episode
+from socialnav.metrics import compute_metrics
+
+SCENARIO = "hallway_passing"
+START = (0.5, -0.45, 0.0)  # hallway_passing.yaml
+GOAL = (5.5, -0.45)
+TABLE1_KEYS = (
+    "total_distance",
+    "time_to_goal",
+    "lateral_distance",
+    "proxemic_intrusions",
+    "deviation_distance",
+)
+ROBOT_COLUMNS = ("t", "robot_x", "robot_y", "robot_yaw", "robot_vx", "robot_vy", "robot_wz")
+
+
+def invoke(*args: str):
+    return CliRunner().invoke(app, list(args))
+
+
+@pytest.fixture(scope="module")
+def paccet_run(tmp_path_factory) -> tuple[Path, dict]:
+    """paccet on PR2, Parquet step table and a GIF."""
+    out = tmp_path_factory.mktemp("run_paccet")
+    result = invoke(
+        "run", SCENARIO, "--planner", "paccet", "--robot", "pr2", "--out", str(out),
+        "--video", "gif",
+    )
+    assert result.exit_code == 0, result.output
+    return out, json.loads(result.stdout)
+
+
+@pytest.fixture(scope="module")
+def csv_run(tmp_path_factory) -> tuple[Path, dict]:
+    """traditional on PR2, CSV step table, no video."""
+    out = tmp_path_factory.mktemp("run_csv")
+    result = invoke(
+        "run", SCENARIO, "--planner", "traditional", "--robot", "pr2", "--out", str(out),
+        "--format", "csv",
+    )
+    assert result.exit_code == 0, result.output
+    return out, json.loads(result.stdout)
+
+
+def columns(path: Path) -> dict[str, np.ndarray]:
+    table = pq.read_table(path) if path.suffix == ".parquet" else pacsv.read_csv(path)
+    return {n: table.column(n).to_numpy(zero_copy_only=False) for n in table.column_names}
+
+
+# --- the step table ---------------------------------------------------------------------------
+
+
+def test_summary_names_the_run(paccet_run) -> None:
+    out, summary = paccet_run
+    assert summary["scenario"] == SCENARIO
+    assert summary["planner"] == "paccet"
+    assert summary["robot"] == "pr2"
+    assert summary["out"] == str(out)
+    assert summary["steps"] > 10
+
+
+def test_trajectory_has_one_row_per_step_and_the_documented_columns(paccet_run) -> None:
+    out, summary = paccet_run
+    col = columns(out / "trajectory.parquet")
+    assert set(ROBOT_COLUMNS) | {"status", "collision_person", "collision_obstacle"} <= set(col)
+    assert {"person_1_x", "person_1_y", "person_1_vx", "person_1_vy"} <= set(col)
+    assert len(col["t"]) == summary["steps"]
+    np.testing.assert_allclose(col["t"], 0.1 * np.arange(summary["steps"]), atol=1e-9)
+
+
+def test_robot_starts_at_the_scenario_start_and_ends_at_the_goal(paccet_run) -> None:
+    col = columns(paccet_run[0] / "trajectory.parquet")
+    first = [col["robot_x"][0], col["robot_y"][0], col["robot_yaw"][0]]
+    np.testing.assert_allclose(first, START, atol=1e-9)
+    last = np.array([col["robot_x"][-1], col["robot_y"][-1]])
+    assert np.hypot(*(last - GOAL)) <= 0.1 + 1e-6  # the scenario's goal_tolerance
+
+
+def test_person_walks_minus_x_on_its_line(paccet_run) -> None:
+    col = columns(paccet_run[0] / "trajectory.parquet")
+    x, y = col["person_1_x"], col["person_1_y"]
+    assert abs(x[0] - 6.0) <= 0.2 + 1e-9  # start jitter ±0.2 m
+    np.testing.assert_allclose(y, 0.45, atol=1e-6)
+    assert np.all(np.diff(x) <= 1e-9) and x[-1] < x[0] - 1.0
+
+
+def test_no_collision_is_recorded(paccet_run) -> None:
+    col = columns(paccet_run[0] / "trajectory.parquet")
+    assert not col["collision_person"].any()
+    assert not col["collision_obstacle"].any()
+
+
+# --- metrics.json against the step table ------------------------------------------------------
+
+
+def test_metrics_json_has_the_table1_keys_and_a_success_dict(paccet_run) -> None:
+    metrics = json.loads((paccet_run[0] / "metrics.json").read_text())
+    for key in TABLE1_KEYS:
+        assert key in metrics
+    assert isinstance(metrics["success"], dict)
+    assert {"reached_goal", "no_collision", "success"} <= set(metrics["success"])
+    assert all(isinstance(v, bool) for v in metrics["success"].values())
+    assert metrics["success"]["success"] == paccet_run[1]["success"]
+
+
+def test_metrics_json_agrees_with_the_step_table(paccet_run) -> None:
+    out = paccet_run[0]
+    metrics = json.loads((out / "metrics.json").read_text())
+    col = columns(out / "trajectory.parquet")
+    xy = np.column_stack([col["robot_x"], col["robot_y"]])
+    steps = np.hypot(*np.diff(xy, axis=0).T)
+    assert metrics["path_length"] == pytest.approx(steps.sum(), rel=1e-9)
+    # time_to_goal is a sample time; total_distance the path up to that sample
+    k = int(np.argmin(np.abs(col["t"] - metrics["time_to_goal"])))
+    assert col["t"][k] == pytest.approx(metrics["time_to_goal"], abs=1e-9)
+    assert metrics["total_distance"] == pytest.approx(steps[:k].sum(), rel=1e-9)
+    person = np.column_stack([col["person_1_x"], col["person_1_y"]])
+    assert metrics["min_distance_center"] == pytest.approx(
+        np.hypot(*(xy - person).T).min(), rel=1e-9
+    )
+    # N counts entries into 1.2 m; the lateral distance is a separation at the passing moment
+    if metrics["min_distance_center"] >= 1.2:
+        assert metrics["proxemic_intrusions"] == 0
+    else:
+        assert metrics["proxemic_intrusions"] >= 1
+    assert metrics["lateral_distance"] >= metrics["min_distance_center"] - 1e-9
+
+
+def test_paccet_keeps_personal_space_in_the_hallway(paccet_run) -> None:
+    metrics = json.loads((paccet_run[0] / "metrics.json").read_text())
+    assert metrics["success"]["success"] is True
+    assert metrics["proxemic_intrusions"] == 0
+    assert metrics["lateral_distance"] >= 1.2
+
+
+def test_episode_json_reloads_to_the_same_metrics(paccet_run) -> None:
+    out = paccet_run[0]
+    static = json.loads((out / "episode.json").read_text())
+    assert static["scenario"] == SCENARIO
+    assert static["trajectory_format"] == "parquet"
+    assert static["people_ids"] == [1]
+    assert static["meta"]["planner"] == "paccet"
+    written = json.loads((out / "metrics.json").read_text())
+    recomputed = compute_metrics(load_episode(out))
+    for key, value in recomputed.items():
+        if math.isnan(value):
+            assert written[key] is None, key
+        else:
+            assert written[key] == pytest.approx(value, rel=1e-12), key
+
+
+# --- diagnostics --------------------------------------------------------------------------------
+
+
+def test_diagnostics_choose_among_the_candidates_and_match_the_commands(paccet_run) -> None:
+    out, summary = paccet_run
+    diag = columns(out / "diagnostics.parquet")
+    traj = columns(out / "trajectory.parquet")
+    step, chosen = diag["step"], diag["chosen_index"]
+    n, legal = diag["n_candidates"], diag["n_legal"]
+    assert 0 < len(step) <= summary["steps"]
+    assert np.all(np.diff(step) > 0) and step[-1] < summary["steps"]
+    assert np.all((legal >= 0) & (legal <= n))
+    picked = chosen >= 0
+    assert picked.sum() > len(step) // 2
+    assert np.all(chosen[picked] < n[picked])
+    assert np.all(legal[picked] >= 1)
+    assert np.all(picked[diag["status"] == "OK"])  # driving means a trajectory was chosen
+    assert set(diag["objectives"][picked]) == {"navigation,ID"}  # the paper's 2 in the hallway
+    for axis in ("vx", "vy", "wz"):  # the chosen candidate's twist is the applied command
+        np.testing.assert_allclose(
+            diag[f"chosen_{axis}"][picked], traj[f"robot_{axis}"][step[picked]], atol=1e-12
+        )
+    for text in diag["rejections"]:
+        assert all(isinstance(v, int) and v >= 0 for v in json.loads(text).values())
+
+
+# --- pictures ------------------------------------------------------------------------------------
+
+
+def test_topdown_png_is_a_real_picture(paccet_run) -> None:
+    path = paccet_run[0] / "topdown.png"
+    with Image.open(path) as img:
+        assert img.format == "PNG"
+        img.verify()
+    with Image.open(path) as img:
+        pixels = np.asarray(img.convert("RGB"), dtype=float)
+    assert min(pixels.shape[:2]) >= 200
+    assert pixels.std() > 5.0
+    assert len(np.unique(pixels.reshape(-1, 3), axis=0)) > 20
+    assert (pixels.min(axis=2) < 200).mean() > 0.005  # something is drawn on the white
+
+
+def test_video_gif_has_several_different_frames(paccet_run) -> None:
+    path = paccet_run[0] / "episode.gif"
+    with Image.open(path) as img:
+        assert img.format == "GIF"
+        assert img.n_frames > 1
+        img.seek(0)
+        first = np.asarray(img.convert("RGB"), dtype=float)
+        img.seek(img.n_frames - 1)
+        last = np.asarray(img.convert("RGB"), dtype=float)
+    assert first.shape == last.shape
+    assert np.abs(first - last).mean() > 0.1  # the scene moves
+
+
+# --- CSV ------------------------------------------------------------------------------------------
+
+
+def test_format_csv_writes_a_csv_step_table(csv_run) -> None:
+    out, summary = csv_run
+    assert not (out / "trajectory.parquet").exists()
+    header = (out / "trajectory.csv").read_text().splitlines()[0]
+    assert header.replace('"', "").split(",")[:3] == ["t", "robot_x", "robot_y"]
+    col = columns(out / "trajectory.csv")
+    assert len(col["t"]) == summary["steps"]
+    np.testing.assert_allclose([col["robot_x"][0], col["robot_y"][0]], START[:2], atol=1e-9)
+    record = load_episode(out)  # episode.json says csv; load_episode reads it back
+    assert record.num_steps == summary["steps"]
+    assert record.meta["planner"] == "traditional"
+    assert not (out / "episode.gif").exists()
+
+
+def test_traditional_enters_personal_space_where_paccet_does_not(csv_run, paccet_run) -> None:
+    trad = json.loads((csv_run[0] / "metrics.json").read_text())
+    ours = json.loads((paccet_run[0] / "metrics.json").read_text())
+    assert trad["success"]["reached_goal"] and trad["success"]["no_collision"]
+    assert trad["proxemic_intrusions"] >= 1 > ours["proxemic_intrusions"]
+    assert trad["lateral_distance"] < 1.2 <= ours["lateral_distance"]
