@@ -8,8 +8,9 @@ obstacle layer does). The holonomic PR2 at (4.8, 5.8) moving at 0.3 m/s, on its 
 (1.0, 4.5); the global plan (``plan_path``) runs from the robot to the target. People (seeded):
 with 5 or 20 people, 3 stand in an O-formation ~2.2 m ahead that the robot joins (social goal
 ``o_formation_join_pose``; objectives navigation + ID + GD + SGD, all active); the others stand
-or walk along the path (0.3–1.0 m/s) 0.6–2.5 m beside it, from 3 m behind to 4 m ahead. With 1
-person there is no group and no social goal (navigation + ID: the paper's hallway, m = 2).
+or walk along the path (0.3–1.0 m/s) 0.6–2.5 m beside it, from 3 m behind to 4 m ahead (the
+first one stands 1–1.5 m ahead). With 1 person there is no group and no social goal
+(navigation + ID: the paper's hallway, m = 2).
 
 Planners are the real presets through ``LocalPlanner.plan(ctx, record=True)`` (a fresh context
 every cycle, so per-cycle BFS grids are rebuilt as in the control loop):
@@ -22,7 +23,8 @@ every cycle, so per-cycle BFS grids are rebuilt as in the control loop):
   so each PaCcET row is compared with the weighted sum over the *same* objectives.
 
 Cycle time = the record's ``timing["total"]``; selection time = ``timing["select"]`` of the same
-cycle; share = median over cycles of select / total.
+cycle; share = median over cycles of select / total. Cycles are interleaved across the four
+planners of a row group; ``cycle (min)`` is printed too because medians drift on a loaded machine.
 """
 
 from __future__ import annotations
@@ -199,6 +201,11 @@ class Measured:
             self.stages.setdefault(k, []).append(v)
         self.record = rec
 
+    def other(self) -> list[float]:
+        """Per-cycle time outside the timed stages (validation, F assembly, bookkeeping)."""
+        parts = [v for k, v in self.stages.items() if k != "total"]
+        return [t - sum(p[i] for p in parts) for i, t in enumerate(self.total)]
+
 
 def measure_group(rows: list[tuple[LocalPlanner, Callable[[], PlanningContext]]],
                   repeats: int, warmup: int) -> list[Measured]:
@@ -238,8 +245,8 @@ def print_breakdown(title: str, measured: dict[str, Measured]) -> None:
         row = [stage]
         for res in measured.values():
             total = med(res.total)
-            if stage == "other (untimed)":
-                t = total - sum(med(v) for k, v in res.stages.items() if k != "total")
+            if stage == "other (untimed)":  # per-cycle residual: medians do not add up
+                t = med(res.other())
             elif stage in res.stages:
                 t = med(res.stages[stage])
             else:
@@ -252,10 +259,10 @@ def print_breakdown(title: str, measured: dict[str, Measured]) -> None:
 
 
 def main(quick: bool = False) -> None:
-    repeats, warmup = (5, 1) if quick else (15, 2)
+    repeats, warmup = (5, 1) if quick else (25, 3)
     static = static_costmap()
     scenes = {k: build_scene(k, static) for k in PEOPLE_COUNTS}
-    header = ["people", "N", "variant", "m", "legal", "|ND|", "cycle (median)",
+    header = ["people", "N", "variant", "m", "legal", "|ND|", "cycle (median)", "cycle (min)",
               "vs WS (same obj.)", "select (median)", "select share"]
     body: list[list[str]] = []
     # Stage breakdowns: the brief's case (5 people, N ≈ 400) and the slowest (20, N ≈ 2000).
@@ -282,7 +289,8 @@ def main(quick: bool = False) -> None:
                 body.append([str(n_people), str(rec.num_samples), variant,
                              str(len(rec.objective_names)), f"{rec.num_legal}/{rec.num_samples}",
                              "" if nd is None else str(int(np.count_nonzero(nd))),
-                             format_seconds(med(res.total)), ratio,
+                             format_seconds(med(res.total)), format_seconds(min(res.total)),
+                             ratio,
                              format_seconds(med(res.stages.get("select", [0.0]))),
                              f"{100 * med(res.shares):.1f} %"])
             if (n_people, samples) in breakdowns:
