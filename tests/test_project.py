@@ -37,3 +37,14 @@ def test_no_machine_specific_paths_in_sources() -> None:
         if path.suffix in {".py", ".yaml", ".md", ".toml"} and pattern.search(path.read_text())
     ]
     assert offenders == []
+
+
+def test_readme_python_example_runs_and_plans_a_move() -> None:
+    text = (ROOT / "README.md").read_text()
+    blocks = re.findall(r"```python\n(.*?)```", text, re.S)
+    assert blocks, "the README shows how to use the planner in a control loop"
+    namespace: dict[str, object] = {}
+    exec(compile(blocks[0], "README.md", "exec"), namespace)
+    result = namespace["result"]
+    assert str(result.status.value) == "OK"
+    assert result.cmd[0] > 0  # the robot starts moving toward the goal
