@@ -114,10 +114,12 @@ def test_metrics_json_has_the_table1_keys_and_a_success_dict(paccet_run) -> None
     metrics = json.loads((paccet_run[0] / "metrics.json").read_text())
     for key in TABLE1_KEYS:
         assert key in metrics
-    assert isinstance(metrics["success"], dict)
-    assert {"reached_goal", "no_collision", "success"} <= set(metrics["success"])
-    assert all(isinstance(v, bool) for v in metrics["success"].values())
-    assert metrics["success"]["success"] == paccet_run[1]["success"]
+    conditions = metrics["success_conditions"]
+    assert {"reached_goal", "no_collision", "success"} <= set(conditions)
+    assert all(isinstance(v, bool) for v in conditions.values())
+    assert conditions["success"] == paccet_run[1]["success"]
+    # the success metric (a number, as every metric) agrees with the conditions
+    assert metrics["success"] == float(conditions["success"])
 
 
 def test_metrics_json_agrees_with_the_step_table(paccet_run) -> None:
@@ -149,7 +151,7 @@ def test_metrics_json_agrees_with_the_step_table(paccet_run) -> None:
 
 def test_paccet_keeps_personal_space_in_the_hallway(paccet_run) -> None:
     metrics = json.loads((paccet_run[0] / "metrics.json").read_text())
-    assert metrics["success"]["success"] is True
+    assert metrics["success_conditions"]["success"] is True
     assert metrics["proxemic_intrusions"] == 0
     assert metrics["lateral_distance"] >= 1.2
 
@@ -247,6 +249,7 @@ def test_format_csv_writes_a_csv_step_table(csv_run) -> None:
 def test_traditional_enters_personal_space_where_paccet_does_not(csv_run, paccet_run) -> None:
     trad = json.loads((csv_run[0] / "metrics.json").read_text())
     ours = json.loads((paccet_run[0] / "metrics.json").read_text())
-    assert trad["success"]["reached_goal"] and trad["success"]["no_collision"]
+    trad_ok = trad["success_conditions"]
+    assert trad_ok["reached_goal"] and trad_ok["no_collision"]
     assert trad["proxemic_intrusions"] >= 1 > ours["proxemic_intrusions"]
     assert trad["lateral_distance"] < 1.2 <= ours["lateral_distance"]

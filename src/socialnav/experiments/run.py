@@ -108,7 +108,9 @@ def run_single(
         pq.write_table(pa.table(columns), out / "diagnostics.parquet")
     metrics = {k: (None if np.isnan(v) else float(v)) for k, v in compute_metrics(record).items()}
     success = {k: bool(v) for k, v in evaluate_success(record).items()}
-    (out / "metrics.json").write_text(json.dumps({**metrics, "success": success}, indent=1))
+    (out / "metrics.json").write_text(
+        json.dumps({**metrics, "success_conditions": success}, indent=1)
+    )
     save_figure(plot_episode(record, label=planner), out / "topdown.png")
     if video != "none":
         from socialnav.viz.animation import animate_episode

@@ -133,8 +133,9 @@ def load_episode(folder: Path) -> EpisodeRecord:
     return EpisodeRecord(
         dt=static["dt"],
         times=arr(col["t"], dtype=float),
-        robot_poses=np.stack([col["robot_x"], col["robot_y"], col["robot_yaw"]], axis=1),
-        robot_twists=np.stack([col["robot_vx"], col["robot_vy"], col["robot_wz"]], axis=1),
+        # dtype=float: CSV reads an all-integer column (a robot that never moved) as int64
+        robot_poses=np.stack([col["robot_x"], col["robot_y"], col["robot_yaw"]], 1, dtype=float),
+        robot_twists=np.stack([col["robot_vx"], col["robot_vy"], col["robot_wz"]], 1, dtype=float),
         robot_footprint=arr(static["robot_footprint"], dtype=float),
         robot_radius=static["robot_radius"],
         people_ids=ids,

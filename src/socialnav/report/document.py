@@ -55,6 +55,11 @@ def cell(value: Any, digits: int = 2) -> str:
     return str(value)
 
 
+def _md_cell(text: str) -> str:
+    """A table cell on one line with its pipes escaped (an error message may hold either)."""
+    return " ".join(text.split("\n")).replace("|", "\\|")
+
+
 def to_markdown(doc: Document) -> str:
     out = [f"# {doc.title}", ""]
     for b in doc.blocks:
@@ -65,9 +70,9 @@ def to_markdown(doc: Document) -> str:
         elif isinstance(b, Table):
             if b.caption:
                 out += [f"*{b.caption}*", ""]
-            out.append("| " + " | ".join(b.header) + " |")
+            out.append("| " + " | ".join(_md_cell(h) for h in b.header) + " |")
             out.append("|" + "|".join("---" for _ in b.header) + "|")
-            out += ["| " + " | ".join(cell(v) for v in row) + " |" for row in b.rows]
+            out += ["| " + " | ".join(_md_cell(cell(v)) for v in row) + " |" for row in b.rows]
             out.append("")
         else:
             out += [f"![{b.alt}]({b.path})", ""]

@@ -31,6 +31,7 @@ from socialnav.sim.controller import CONTROLLERS, GOAL_REACHED, Controller
 from socialnav.sim.engine import ControllerBehavior, SimWorld, build_world, pose_of
 from socialnav.sim.recorder import EpisodeRecorder, StaticGeometry, context_at
 from socialnav.sim.scenario import Scenario, load_scenario
+from socialnav.sim.stack import StackController  # noqa: F401  (registers the presets by name)
 
 #: a controller counts as stopped below these speeds (m/s, rad/s)
 STOP_EPS = 1e-3

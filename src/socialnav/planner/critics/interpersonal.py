@@ -21,6 +21,11 @@ Deviations and choices:
   by default — the occupancy critic handles corners against walls; choose ``circumscribed`` to be
   conservative) overlaps a person's disc at any rollout time (people forecast by
   ``ctx.people_at``) is illegal, reason ``person_collision``.
+- Speed, not behaviour: the per-time distances enter only through their minimum over time
+  (``f`` is non-increasing; a collision at some time is ``min d² < r²``), so the ``(N, K)``
+  minimum is computed once per cycle and shared by every interpersonal critic (the paper's
+  ``ID_f1 … ID_fn`` slots) via ``ctx.extras``; people who provably stay beyond every distance
+  that matters are culled first (:func:`min_squared_distances`).
 """
 
 from __future__ import annotations
@@ -47,6 +52,47 @@ def capped_inverse_exp(d: FloatArray, threshold: float, min_distance: float) -> 
 def footprint_radius(ctx: PlanningContext, which: str) -> float:
     """The robot's inscribed or circumscribed radius (m)."""
     return ctx.robot.inscribed_radius if which == "inscribed" else ctx.robot.circumscribed_radius
+
+
+def min_squared_distances(trajs: Trajectories, ctx: PlanningContext, reach: FloatArray
+                          ) -> FloatArray:
+    """``(N, K)`` min over rollout time of the squared distance between each trajectory point
+    and each person forecast to that time (``ctx.people_at(trajs.t)``).
+
+    Exact wherever the distance can be ``<= reach[k]`` (m, per person); a person who provably
+    stays farther than ``reach[k]`` from every rollout point at every time gets ``inf`` (culled:
+    the bound is the distance from the person to the box of all trajectory points at that
+    time). Shared through ``ctx.extras`` within a cycle: computed once per (trajectory batch,
+    forecast) — the cache keeps the batch itself and compares by identity — and extended when a
+    later caller's ``reach`` needs more people.
+    """
+    entry = ctx.extras.get("interpersonal_d2min")
+    if entry is None or entry[0] is not trajs:
+        xy = trajs.xy
+        forecast = ctx.people_at(trajs.t)  # (T, K, 2)
+        # Per-time box of the rollout points → a lower bound on each person's distance.
+        lo, hi = xy.min(axis=0), xy.max(axis=0)  # (T, 2)
+        gap = np.maximum(lo[:, None] - forecast, 0.0) + np.maximum(forecast - hi[:, None], 0.0)
+        bound = np.sqrt((gap * gap).sum(axis=-1)).min(axis=0)  # (K,)
+        d2min = np.full((len(trajs), forecast.shape[1]), np.inf)
+        entry = (trajs, forecast, bound, np.zeros(forecast.shape[1], dtype=bool), d2min)
+        ctx.extras["interpersonal_d2min"] = entry
+    _, forecast, bound, done, d2min = entry
+    # A relative margin keeps the cull conservative against rounding in the bound.
+    todo = ~done & (bound <= reach * (1.0 + 1e-9) + 1e-9)
+    if todo.any():
+        xs = np.ascontiguousarray(trajs.xy[..., 0])  # (N, T)
+        ys = np.ascontiguousarray(trajs.xy[..., 1])
+        # One person at a time: (N, T) temporaries stay in cache, unlike one (N, T, K) array.
+        for j in np.flatnonzero(todo):
+            dx = xs - forecast[None, :, j, 0]
+            dy = ys - forecast[None, :, j, 1]
+            np.multiply(dx, dx, out=dx)
+            np.multiply(dy, dy, out=dy)
+            np.add(dx, dy, out=dx)
+            d2min[:, j] = dx.min(axis=1)
+        done |= todo
+    return d2min
 
 
 @CRITICS.register("interpersonal")
@@ -99,20 +145,24 @@ class InterpersonalCritic(Critic):
         radii = ctx.social.radii()
         robot_r = footprint_radius(ctx, self.footprint_disc)
         xy = trajs.xy  # (N, T, 2)
-        need_all = self.evaluation == "max_over_time" or self.collision_check
-        d2_all = None
-        if need_all:
-            forecast = ctx.people_at(trajs.t)  # (T, K, 2)
-            dx = xy[:, :, None, 0] - forecast[None, :, :, 0]
-            dy = xy[:, :, None, 1] - forecast[None, :, :, 1]
-            d2_all = dx * dx + dy * dy  # (N, T, K) squared distances
+        d2min = None
+        if self.evaluation == "max_over_time" or self.collision_check:
+            # Per person, the largest distance at which this critic's result depends on it.
+            reach = np.full(k, -np.inf)
+            if self.evaluation == "max_over_time":
+                reach = np.full(k, self.threshold)
+                if self.distance == "edge":
+                    reach = reach + radii + robot_r
+            if self.collision_check:
+                reach = np.maximum(reach, radii + robot_r)
+            d2min = min_squared_distances(trajs, ctx, reach)  # (N, K)
 
         if self.evaluation == "last":
             d = np.linalg.norm(xy[:, -1, None, :] - people_now[None], axis=-1)  # (N, K)
         else:
             # f is non-increasing in d, so max over time of f(d) = f(min over time of d)
-            assert d2_all is not None
-            d = np.sqrt(d2_all.min(axis=1))
+            assert d2min is not None
+            d = np.sqrt(d2min)
         if self.distance == "edge":
             d = np.maximum(d - radii - robot_r, 0.0)
         f = capped_inverse_exp(d, self.threshold, self.min_distance)  # (N, K)
@@ -127,6 +177,7 @@ class InterpersonalCritic(Critic):
 
         illegal: dict[str, np.ndarray] = {}
         if self.collision_check:
-            assert d2_all is not None
-            illegal["person_collision"] = (d2_all < (radii + robot_r) ** 2).any(axis=(1, 2))
+            # any over time of d² < r² is (min over time of d²) < r²
+            assert d2min is not None
+            illegal["person_collision"] = (d2min < (radii + robot_r) ** 2).any(axis=1)
         return CriticScore(np.ascontiguousarray(cost, dtype=float), illegal)

@@ -1,0 +1,165 @@
+"""Episode files round trip: ``load_episode(save_episode(r))`` equals ``r`` (Parquet and CSV)."""
+
+from __future__ import annotations
+
+import json
+from dataclasses import fields
+from pathlib import Path
+
+import numpy as np
+import pyarrow.parquet as pq
+import pytest
+
+from socialnav.core.episode import EpisodeRecord
+from socialnav.core.robot import PIONEER, PR2
+from socialnav.core.scene import Artwork, Group, Person, Queue, SocialContext
+from socialnav.experiments.storage import (
+    EPISODE_FILE,
+    TRAJECTORY_FILE,
+    load_episode,
+    save_episode,
+    trajectory_table,
+)
+
+
+def rich_record(steps: int = 23, seed: int = 0) -> EpisodeRecord:
+    """Irrational-looking floats, non-contiguous person ids and every kind of social structure."""
+    rng = np.random.default_rng(seed)
+    ids = np.array([3, 7, 11, 12, 20])
+    people = tuple(
+        Person(int(i), tuple(rng.normal(size=2)), tuple(rng.normal(size=2)), float(rng.normal()),
+               0.2 + 0.01 * k)
+        for k, i in enumerate(ids)
+    )
+    context = SocialContext(
+        people=people,
+        groups=(Group((3, 7), "lead"),),
+        queues=(Queue((11, 12), (1.0 / 3.0, -2.5), 0.75),),
+        artworks=(Artwork((4.0, np.pi), 1.2, -np.pi / 2, (20,)),),
+    )
+    status = np.array(["OK", "RECOVERING", "ROTATING_TO_GOAL", "GOAL_REACHED"] * steps)[:steps]
+    collisions = np.zeros(steps, dtype=bool)
+    collisions[[4, 5]] = True
+    return EpisodeRecord(
+        dt=0.1,
+        times=0.1 * np.arange(steps),
+        robot_poses=rng.normal(size=(steps, 3)),
+        robot_twists=rng.normal(size=(steps, 3)),
+        robot_footprint=PIONEER.polygon,
+        robot_radius=PIONEER.circumscribed_radius,
+        people_ids=ids,
+        people_positions=rng.normal(size=(steps, len(ids), 2)),
+        people_velocities=rng.normal(size=(steps, len(ids), 2)),
+        people_radii=np.array([p.radius for p in people]),
+        start=np.array([0.1, 0.2, 0.3]),
+        goal=np.array([5.0, -1.0 / 7.0, np.pi]),
+        target=np.array([4.5, -0.3, -np.pi / 3]),
+        goal_tolerance=0.25,
+        time_limit=90.0,
+        family="gallery_activity",
+        scenario="storage_test",
+        context=context,
+        waypoint=np.array([2.0, 1.0 / 3.0]),
+        walls=rng.normal(size=(4, 2, 2)),
+        obstacles=(rng.normal(size=(4, 2)), rng.normal(size=(24, 2))),
+        collision_person=collisions,
+        collision_obstacle=np.roll(collisions, 7),
+        status=status,
+        meta={"planner": "paccet", "robot": "pioneer", "seed": seed, "termination": "goal_reached",
+              "planner_ms_median": 3.25, "social_goal": None},
+    )
+
+
+def empty_hallway(steps: int = 5) -> EpisodeRecord:
+    """No people, no waypoint, no obstacles: the degenerate shapes."""
+    return EpisodeRecord(
+        dt=0.1,
+        times=0.1 * np.arange(steps),
+        robot_poses=np.column_stack([np.linspace(0, 1, steps), np.zeros(steps), np.zeros(steps)]),
+        robot_twists=np.zeros((steps, 3)),
+        robot_footprint=PR2.polygon,
+        robot_radius=PR2.circumscribed_radius,
+        people_ids=np.zeros(0, dtype=int),
+        people_positions=np.zeros((steps, 0, 2)),
+        people_velocities=np.zeros((steps, 0, 2)),
+        people_radii=np.zeros(0),
+        start=np.zeros(3),
+        goal=np.array([1.0, 0.0, 0.0]),
+        target=np.array([1.0, 0.0, 0.0]),
+        goal_tolerance=0.1,
+        time_limit=10.0,
+        family="hallway",
+        scenario="empty",
+    )
+
+
+def assert_records_equal(a: EpisodeRecord, b: EpisodeRecord) -> None:
+    for f in fields(EpisodeRecord):
+        x, y = getattr(a, f.name), getattr(b, f.name)
+        if f.name == "obstacles":
+            assert len(x) == len(y)
+            for p, q in zip(x, y, strict=True):
+                np.testing.assert_array_equal(p, q)
+        elif isinstance(x, np.ndarray):
+            assert isinstance(y, np.ndarray), f.name
+            assert x.shape == y.shape, f.name
+            if x.dtype.kind in "fiub":
+                assert y.dtype.kind == x.dtype.kind or {x.dtype.kind, y.dtype.kind} <= {"i", "u"}
+            np.testing.assert_array_equal(x, y, err_msg=f.name)
+        else:
+            assert x == y, f.name
+
+
+@pytest.mark.parametrize("fmt", ["parquet", "csv"])
+@pytest.mark.parametrize("make", [rich_record, empty_hallway])
+def test_save_then_load_gives_an_equal_record(tmp_path: Path, fmt: str, make) -> None:
+    record = make()
+    folder = save_episode(record, tmp_path / "episode", fmt=fmt)
+    assert folder == tmp_path / "episode"
+    table_file = TRAJECTORY_FILE if fmt == "parquet" else "trajectory.csv"
+    assert sorted(p.name for p in folder.iterdir()) == sorted([EPISODE_FILE, table_file])
+    loaded = load_episode(folder)
+    assert_records_equal(record, loaded)
+    assert loaded.context == record.context  # people, groups, queues, artworks
+    assert loaded.num_steps == record.num_steps
+
+
+def test_the_context_keeps_every_social_structure(tmp_path: Path) -> None:
+    loaded = load_episode(save_episode(rich_record(), tmp_path))
+    assert loaded.context.groups == (Group((3, 7), "lead"),)
+    assert loaded.context.queues[0].service_point == (1.0 / 3.0, -2.5)
+    assert loaded.context.artworks[0].viewer_ids == (20,)
+    assert loaded.context.person(20).radius == pytest.approx(0.24)
+
+
+def test_trajectory_columns_are_wide_per_person(tmp_path: Path) -> None:
+    record = rich_record(steps=9)
+    save_episode(record, tmp_path)
+    table = pq.read_table(tmp_path / TRAJECTORY_FILE)
+    assert table.num_rows == 9
+    assert table.column_names[:3] == ["t", "robot_x", "robot_y"]
+    for k, pid in enumerate(record.people_ids):
+        np.testing.assert_array_equal(
+            table.column(f"person_{pid}_vy").to_numpy(), record.people_velocities[:, k, 1]
+        )
+    assert trajectory_table(record).equals(table)
+
+
+def test_episode_json_is_plain_json_and_names_the_format(tmp_path: Path) -> None:
+    save_episode(rich_record(), tmp_path, fmt="csv")
+    static = json.loads((tmp_path / EPISODE_FILE).read_text())
+    assert static["trajectory_format"] == "csv"
+    assert static["people_ids"] == [3, 7, 11, 12, 20]
+    assert static["meta"]["planner"] == "paccet"
+
+
+def test_different_records_do_not_load_equal(tmp_path: Path) -> None:
+    a = load_episode(save_episode(rich_record(seed=0), tmp_path / "a"))
+    b = load_episode(save_episode(rich_record(seed=1), tmp_path / "b"))
+    with pytest.raises(AssertionError):
+        assert_records_equal(a, b)
+
+
+def test_an_unknown_format_is_refused(tmp_path: Path) -> None:
+    with pytest.raises(ValueError, match="xml"):
+        save_episode(rich_record(), tmp_path, fmt="xml")
