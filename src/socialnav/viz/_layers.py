@@ -335,23 +335,7 @@ def draw_people(
             if mid.size:
                 d = track[mid + 1] - track[mid]
                 d = 0.35 * d / np.maximum(np.linalg.norm(d, axis=1, keepdims=True), 1e-9)
-                out["arrow"].append(
-                    ax.quiver(
-                        track[mid, 0],
-                        track[mid, 1],
-                        d[:, 0],
-                        d[:, 1],
-                        angles="xy",
-                        scale_units="xy",
-                        scale=1.0,
-                        color=color,
-                        units="inches",
-                        width=0.018,
-                        headwidth=4.0,
-                        headlength=4.5,
-                        zorder=7,
-                    )
-                )
+                out["arrow"].append(_arrows(ax, track[mid], d, color, 0.018, 4.0, 4.5))
         if moving:
             step = track[-1] - track[max(0, track.shape[0] - 6)]
             yaw = float(np.arctan2(step[1], step[0]))
@@ -389,23 +373,7 @@ def draw_people(
     if arrow_ok.any():
         tails = ends[arrow_ok]
         vec = heads[arrow_ok] * 0.55
-        out["arrow"].append(
-            ax.quiver(
-                tails[:, 0],
-                tails[:, 1],
-                vec[:, 0],
-                vec[:, 1],
-                angles="xy",
-                scale_units="xy",
-                scale=1.0,
-                color=color,
-                units="inches",
-                width=0.022,
-                headwidth=3.5,
-                headlength=4.0,
-                zorder=7,
-            )
-        )
+        out["arrow"].append(_arrows(ax, tails, vec, color, 0.022, 3.5, 4.0))
     if end_space:
         circles = [Circle(e, PERSONAL_SPACE) for e, h in zip(ends, have, strict=True) if h]
         pc = PatchCollection(
@@ -709,3 +677,30 @@ def finish_map_axes(ax: Axes, roi: tuple[float, float, float, float]) -> None:
     ax.set_ylabel("y [m]")
     ax.grid(True, color="#dddddd", linewidth=0.5, zorder=0)
     ax.set_axisbelow(True)
+
+
+def _arrows(
+    ax: Any,
+    tails: np.ndarray,
+    vectors: np.ndarray,
+    color: Any,
+    width: float,
+    headwidth: float,
+    headlength: float,
+) -> Any:
+    """Direction arrows in data units: ``tails (K, 2)`` + ``vectors (K, 2)`` (m)."""
+    return ax.quiver(
+        tails[:, 0],
+        tails[:, 1],
+        vectors[:, 0],
+        vectors[:, 1],
+        angles="xy",
+        scale_units="xy",
+        scale=1.0,
+        color=color,
+        units="inches",
+        width=width,
+        headwidth=headwidth,
+        headlength=headlength,
+        zorder=7,
+    )

@@ -97,7 +97,6 @@ class OccupancyCritic(Critic):
     def score(self, trajs: Trajectories, ctx: PlanningContext) -> CriticScore:
         geom = ctx.costmap.geometry
         costs = ctx.costmap.costs
-        n = len(trajs)
         poses = trajs.poses[:, 1:] if trajs.poses.shape[1] > 1 else trajs.poses
         inv = 1.0 / geom.resolution
         col = np.floor((poses[..., 0] - geom.origin[0]) * inv).astype(np.intp)
@@ -173,7 +172,6 @@ def _prepare_clearance(ctx: PlanningContext) -> None:
     if "occupancy_outline" not in ctx.extras:
         _prepare_outline(ctx)
     rho = ctx.extras["occupancy_outline_rho"]
-    res = ctx.costmap.resolution
     rows, cols = ctx.costmap.geometry.shape
     # Window margin e: a hard cell outside the window is >= e + 1 cells away, beyond any reach.
     e = math.ceil(float(rho.max(initial=0.0)) + math.sqrt(2.0) + _CLEARANCE_MARGIN) + 1
