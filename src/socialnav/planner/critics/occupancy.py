@@ -152,11 +152,9 @@ def _prepare_outline(ctx: PlanningContext) -> None:
     # circumscribed radius of the map: a border that wide replaces clipping and the in-map test.
     pad = math.ceil(float(rho.max(initial=0.0))) + 2
     costs = ctx.costmap.costs
-    codes = np.full((costs.shape[0] + 2 * pad, costs.shape[1] + 2 * pad), _UNSEEN, np.uint8)
-    inner = codes[pad:-pad, pad:-pad]
-    inner[...] = 0
-    inner[costs == LETHAL] = _HIT
-    inner[costs == UNKNOWN] = _UNSEEN
+    # LETHAL (254) → 1, UNKNOWN (255) → 2, anything lower → 0
+    codes = np.pad(np.maximum(costs, INSCRIBED) - np.uint8(INSCRIBED), pad,
+                   constant_values=_UNSEEN)
     ctx.extras["occupancy_codes"] = (codes, pad)
 
 
@@ -182,7 +180,10 @@ def _prepare_clearance(ctx: PlanningContext) -> None:
         hi = ctx.costmap.geometry.world_to_cell(ctx.pose[:2] + reach)
         r0, c0 = max(int(lo[0]) - 1, 0), max(int(lo[1]) - 1, 0)
         r1, c1 = min(int(hi[0]) + 2, rows), min(int(hi[1]) + 2, cols)
-    clear = np.zeros((rows, cols), dtype=float)
+    # Index of the clearance level (1/16 cell, rounded down); 0 (check every point) outside
+    # the box.
+    step = 1.0 / 16.0
+    clear = np.zeros((rows, cols), dtype=np.uint16)
     if r0 < r1 and c0 < c1:
         a0, a1 = max(r0 - e, 0), min(r1 + e, rows)
         b0, b1 = max(c0 - e, 0), min(c1 + e, cols)
@@ -195,15 +196,15 @@ def _prepare_clearance(ctx: PlanningContext) -> None:
         else:
             dist = np.minimum(distance_transform_edt(free), float(e + 1))
         i0, j0 = r0 - a0 + edges[0][0], c0 - b0 + edges[1][0]
-        clear[r0:r1, c0:c1] = dist[i0 : i0 + r1 - r0, j0 : j0 + c1 - c0]
-    # Points with rho >= D - √2 - margin may hit; rho is sorted descending. Quantize D to
-    # 1/16 cell, rounding down (a smaller D checks more points: still exact).
-    step = 1.0 / 16.0
+        box = dist[i0 : i0 + r1 - r0, j0 : j0 + c1 - c0]
+        clear[r0:r1, c0:c1] = np.floor(box * (1.0 / step))
+    # Points with rho >= D - √2 - margin may hit; rho is sorted descending. Rounding D down to
+    # a level checks more points: still exact.
     levels = np.arange((e + 1) * 16 + 1) * step
     need = np.count_nonzero(
         rho[None, :] >= (levels - math.sqrt(2.0) - _CLEARANCE_MARGIN)[:, None], axis=1
     )
-    ctx.extras["occupancy_clearance"] = np.floor(clear / step).astype(np.intp)
+    ctx.extras["occupancy_clearance"] = clear
     ctx.extras["occupancy_need"] = need.astype(np.intp)
 
 
