@@ -112,6 +112,9 @@ def run_single(
         json.dumps({**metrics, "success_conditions": success}, indent=1)
     )
     save_figure(plot_episode(record, label=planner), out / "topdown.png")
+    decision = decision_figure(result.diagnostics, record)
+    if decision is not None:
+        save_figure(decision, out / "decision.png")
     if video != "none":
         from socialnav.viz.animation import animate_episode
 
@@ -127,6 +130,38 @@ def run_single(
         "wall_time_s": round(result.wall_time, 2),
         "out": str(out),
     }
+
+
+def decision_figure(diagnostics: list[Any], record: Any) -> Any:
+    """Why a trajectory won, at the multi-objective cycle closest to a person (None if none)."""
+    from socialnav.viz.pareto import plot_decision
+
+    best, best_distance = None, np.inf
+    for step, diag in enumerate(diagnostics):
+        rec = getattr(diag, "record", None)
+        if rec is None or rec.chosen is None or rec.F.ndim != 2 or rec.F.shape[1] < 2:
+            continue
+        if record.people_positions.shape[1] == 0:
+            distance = 0.0
+        else:
+            gaps = record.people_positions[step] - record.robot_poses[step, :2]
+            distance = float(np.min(np.hypot(gaps[:, 0], gaps[:, 1])))
+        if distance < best_distance:
+            best, best_distance = (step, rec), distance
+    if best is None:
+        return None
+    step, rec = best
+    details = rec.selection or {}
+    return plot_decision(
+        rec.F,
+        rec.legal,
+        details.get("nondominated"),
+        details.get("transformed"),
+        rec.chosen,
+        rec.objective_names,
+        fitness=rec.fitness,
+        title=f"cycle at t = {record.times[step]:.1f} s ({best_distance:.2f} m from a person)",
+    )
 
 
 def fan_frames(diagnostics: list[Any]) -> list[Any]:
