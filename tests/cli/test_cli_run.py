@@ -203,8 +203,9 @@ def test_diagnostics_choose_among_the_candidates_and_match_the_commands(paccet_r
 # --- pictures -------------------------------------------------------------------------------------
 
 
-def test_topdown_png_is_a_real_picture(paccet_run) -> None:
-    path = paccet_run[0] / "topdown.png"
+@pytest.mark.parametrize("name", ["topdown.png", "decision.png"])
+def test_pictures_are_real_pictures(paccet_run, name: str) -> None:
+    path = paccet_run[0] / name
     with Image.open(path) as img:
         assert img.format == "PNG"
         img.verify()
