@@ -157,3 +157,23 @@ def plan_path(
     centres = geo.cell_to_world(np.stack([nodes // cols, nodes % cols], axis=-1))
     path = np.concatenate([start[None], centres[1:-1], goal[None]], axis=0)
     return GlobalPlan(path, "OK", float(dist[g_idx]))
+
+
+def nearest_free(
+    costmap: Costmap, xy: ArrayLike, tolerance: float, lethal_cost: int = 253
+) -> NDArray[np.float64] | None:
+    """The traversable cell centre nearest ``xy`` within ``tolerance`` m, or None.
+
+    navfn's ``default_tolerance``: a goal inside an obstacle (a person standing on it) is
+    replaced by the closest reachable point, as the ROS planner does.
+    """
+    p = np.asarray(xy, dtype=float)
+    geometry = costmap.geometry
+    xs, ys = geometry.cell_centers()
+    distance = np.hypot(xs - p[0], ys - p[1])
+    candidates = traversable(costmap.costs, lethal_cost) & (distance <= tolerance)
+    if not candidates.any():
+        return None
+    flat = np.where(candidates, distance, np.inf).argmin()
+    row, col = np.unravel_index(flat, distance.shape)
+    return np.array([xs[row, col], ys[row, col]])

@@ -32,7 +32,7 @@ from socialnav.core.geometry import FloatArray, wrap_angle
 from socialnav.core.robot import RobotModel
 from socialnav.core.scene import SocialContext
 from socialnav.planner.context import PlanningContext
-from socialnav.planner.global_planner import plan_path
+from socialnav.planner.global_planner import nearest_free, plan_path
 from socialnav.planner.local_planner import PlannerResult, PlannerStatus
 from socialnav.world.costmap import add_obstacle_discs, crop
 from socialnav.world.grid import Costmap
@@ -63,6 +63,7 @@ class Navigator:
         costmap_layer: CostmapLayer | None = None,
         people_as_obstacles: bool = True,
         global_layer: CostmapLayer | None = None,
+        goal_tolerance: float = 1.0,
     ) -> None:
         g = np.asarray(goal, dtype=float)
         if g.shape != (3,) or not np.all(np.isfinite(g)):
@@ -85,6 +86,7 @@ class Navigator:
         self.costmap_layer = costmap_layer
         self.people_as_obstacles = people_as_obstacles
         self.global_layer = global_layer
+        self.goal_tolerance = float(goal_tolerance)
         self.reset()
 
     def reset(self) -> None:
@@ -177,6 +179,11 @@ class Navigator:
             if self.global_layer is not None:
                 costmap = self.global_layer(costmap, social)
             plan = plan_path(costmap, pose[:2], target[:2])
+            if plan.status == "GOAL_BLOCKED" and self.goal_tolerance > 0:
+                # navfn default_tolerance: plan to the nearest free point instead
+                substitute = nearest_free(costmap, target[:2], self.goal_tolerance)
+                if substitute is not None:
+                    plan = plan_path(costmap, pose[:2], substitute)
             self.last_plan_status = plan.status
             self._plan_time = time
             if plan.path is not None and plan.path.shape[0] > 0:

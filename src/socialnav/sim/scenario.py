@@ -38,6 +38,7 @@ from socialnav.core.errors import ConfigurationError
 from socialnav.core.geometry import FloatArray
 from socialnav.core.robot import RobotModel
 from socialnav.core.scene import HUMAN_RADIUS, Artwork, Group, Person, Queue, SocialContext
+from socialnav.social.spaces import fit_circle
 from socialnav.world.grid import Costmap, GridGeometry
 
 #: scenario families of the paper; "custom" = no family-specific success conditions
@@ -332,13 +333,20 @@ class Scenario(_Model):
             people=people,
             groups=tuple(Group(tuple(g.members), g.mode) for g in self.groups),
             queues=tuple(
-                Queue(tuple(q.members), (float(q.service_point[0]), float(q.service_point[1])),
-                      float(q.spacing))
+                Queue(
+                    tuple(q.members),
+                    (float(q.service_point[0]), float(q.service_point[1])),
+                    float(q.spacing),
+                )
                 for q in self.queues
             ),
             artworks=tuple(
-                Artwork((float(a.center[0]), float(a.center[1])), float(a.width),
-                        float(a.facing), tuple(a.viewers))
+                Artwork(
+                    (float(a.center[0]), float(a.center[1])),
+                    float(a.width),
+                    float(a.facing),
+                    tuple(a.viewers),
+                )
                 for a in self.artworks
             ),
         )
@@ -387,9 +395,7 @@ class Scenario(_Model):
 
     def discs_array(self) -> FloatArray:
         """Disc obstacles ``(D, 3)`` as ``[x, y, r]``."""
-        return np.array([[*d.center, d.radius] for d in self.map.discs], dtype=float).reshape(
-            -1, 3
-        )
+        return np.array([[*d.center, d.radius] for d in self.map.discs], dtype=float).reshape(-1, 3)
 
     def bounds(self) -> tuple[float, float, float, float]:
         """``(xmin, ymin, xmax, ymax)`` of all geometry, start, goal and people, plus margin."""
@@ -408,6 +414,8 @@ class Scenario(_Model):
         With a ROS map the map's own grid (and resolution) is used and the vector geometry is
         drawn on top of it.
         """
+        from scipy.ndimage import binary_dilation
+
         from socialnav.world.inflation import inflate
         from socialnav.world.raster import rasterize
 
@@ -423,13 +431,19 @@ class Scenario(_Model):
             shape = (math.ceil((ymax - ymin) / resolution), math.ceil((xmax - xmin) / resolution))
             geometry = GridGeometry(shape, resolution, (xmin, ymin))
             base = np.zeros(shape, dtype=bool)
-        occupied = base | rasterize(
+        walls = rasterize(
+            geometry, segments=np.asarray(self.map.walls, dtype=float).reshape(-1, 2, 2)
+        )
+        solids = rasterize(
             geometry,
-            segments=np.asarray(self.map.walls, dtype=float).reshape(-1, 2, 2),
             polygons=[np.asarray(p, dtype=float) for p in self.map.polygons]
             + [r.polygon() for r in self.map.rectangles],
             discs=self.discs_array(),
         )
+        # Polygons and discs mark cells whose centre is inside; one cell of dilation makes the
+        # grid cover the true shape, so a footprint legal on the grid cannot touch the shape.
+        # (Wall segments already mark every cell they pass within half a cell diagonal of.)
+        occupied = base | walls | binary_dilation(solids, structure=np.ones((3, 3), dtype=bool))
         return inflate(occupied, geometry, robot.inscribed_radius, unknown=unknown)
 
     # -- randomization ------------------------------------------------------------------------
@@ -457,9 +471,14 @@ class Scenario(_Model):
                 pos = pos + direction * d_start
                 new_speed = max(speed + d_speed, 0.05)
                 walk = p.behavior.model_copy(
-                    update={"velocity": (float(direction[0] * new_speed),
-                                         float(direction[1] * new_speed)),
-                            "speed": None, "heading": None}
+                    update={
+                        "velocity": (
+                            float(direction[0] * new_speed),
+                            float(direction[1] * new_speed),
+                        ),
+                        "speed": None,
+                        "heading": None,
+                    }
                 )
                 update["behavior"] = walk
                 if p.yaw is None:
@@ -480,7 +499,7 @@ def _vary_groups(scn: Scenario, rng: np.random.Generator) -> Scenario:
     for g in scn.groups:
         members = [scn.person(i) for i in g.members]
         pos = np.array([m.position for m in members], dtype=float)
-        center = pos.mean(axis=0) if len(pos) < 3 else _circle_center(pos)
+        center = pos.mean(axis=0) if len(pos) < 3 else fit_circle(pos)[0]
         radius = float(np.linalg.norm(pos - center, axis=1).mean())
         ang = np.sort(np.arctan2(pos[:, 1] - center[1], pos[:, 0] - center[0]))
         gaps = np.diff(np.concatenate([ang, ang[:1] + 2 * np.pi]))
@@ -495,8 +514,13 @@ def _vary_groups(scn: Scenario, rng: np.random.Generator) -> Scenario:
         for a in arc:
             pid = reuse.pop(0) if reuse else next_id
             xy = center + radius * np.array([math.cos(a), math.sin(a)])
-            people.append(PersonSpec(id=pid, position=(float(xy[0]), float(xy[1])),
-                                     yaw=float(math.atan2(-math.sin(a), -math.cos(a)))))
+            people.append(
+                PersonSpec(
+                    id=pid,
+                    position=(float(xy[0]), float(xy[1])),
+                    yaw=float(math.atan2(-math.sin(a), -math.cos(a))),
+                )
+            )
             new_ids.append(pid)
             next_id = max(next_id, pid + 1)
         groups.append(g.model_copy(update={"members": new_ids}))
@@ -504,20 +528,8 @@ def _vary_groups(scn: Scenario, rng: np.random.Generator) -> Scenario:
 
 
 def _ros_masks(occ: Any) -> tuple[np.ndarray, np.ndarray]:
-    """Occupied and unknown masks of a loaded ROS map (trinary, scale or raw values)."""
-    grid = np.asarray(occ.occupancy, dtype=float)
-    thresh = float(occ.meta.get("occupied_thresh", 0.65))
-    if occ.meta.get("mode", "trinary") == "raw":
-        return grid >= thresh * 255.0, np.zeros(grid.shape, dtype=bool)
-    return grid >= thresh * 100.0, grid < 0
-
-
-def _circle_center(points: FloatArray) -> FloatArray:
-    """Least-squares (Kåsa) circle centre of ``(K, 2)`` points."""
-    a = np.column_stack([2 * points, np.ones(len(points))])
-    b = (points**2).sum(axis=1)
-    sol, *_ = np.linalg.lstsq(a, b, rcond=None)
-    return sol[:2]
+    """Occupied and unknown masks of a loaded ROS map, read as costmap_2d's static layer does."""
+    return occ.occupied_mask(), occ.unknown_mask()
 
 
 def occupancy_boundaries(occupied: np.ndarray, geometry: GridGeometry) -> FloatArray:
@@ -573,8 +585,9 @@ def _format_errors(where: str, exc: ValidationError) -> str:
 def scenario_from_dict(data: Any, where: str = "<scenario>") -> Scenario:
     """Validate a parsed YAML mapping; errors name ``where`` and the field path."""
     if not isinstance(data, dict):
-        raise ConfigurationError(f"{where}: (top level): expected a mapping, got "
-                                 f"{type(data).__name__}")
+        raise ConfigurationError(
+            f"{where}: (top level): expected a mapping, got {type(data).__name__}"
+        )
     try:
         return Scenario.model_validate(data)
     except ValidationError as exc:
