@@ -21,6 +21,7 @@ import pyarrow.parquet as pq
 RESULTS_FILE = "results.parquet"
 TABLE1_SCENARIO = "hallway_passing"
 TABLE1_SEEDS = (0, 1, 2, 3, 4)
+CHECKPOINT_EVERY = 25
 
 
 @dataclass(frozen=True)
@@ -151,6 +152,8 @@ def run_suite(
         rows.append(row)
         if progress:
             progress(len(rows), total)
+        if len(rows) % CHECKPOINT_EVERY == 0:  # an interrupted suite resumes from here
+            write_rows(sorted(previous + rows, key=lambda r: r["run_id"]), out_dir / RESULTS_FILE)
     wanted = {s.run_id for s in specs}
     all_rows = [r for r in previous if r["run_id"] in wanted] + rows
     all_rows.sort(key=lambda r: r["run_id"])
