@@ -215,3 +215,17 @@ def test_build_report_prints_wilson_intervals_above_5_runs(tmp_path: Path) -> No
     assert f"| paccet | 6/6 [{lo:.2f}, {hi:.2f}] | 6/6 |" in text
     lo, hi = wilson_interval(0, 6)
     assert f"| traditional | 0/6 [{lo:.2f}, {hi:.2f}] | 0/6 |" in text
+
+
+def test_efficiency_statement_names_faster_and_shorter_baselines() -> None:
+    from socialnav.report.build import efficiency_statement
+
+    rows = [
+        ["traditional", 0.0, 0.7, 1.00, 20.0, 3.0],
+        ["paccet", 1.0, 0.96, 1.09, 23.5, 4.1],
+        ["hl", 0.4, 0.84, 1.10, 18.7, float("nan")],
+    ]
+    text = efficiency_statement(rows)
+    assert "shorter paths: traditional (1.00 vs 1.09)" in text
+    assert "less time to the goal: traditional (20.00 vs 23.50), hl (18.70 vs 23.50)" in text
+    assert efficiency_statement([["paccet", 1.0, 1.0, 1.0, 10.0, 1.0]]).startswith("No planner")

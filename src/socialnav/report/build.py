@@ -330,6 +330,7 @@ def tradeoff_section(
             table_rows,
         )
     )
+    doc.add(Paragraph(efficiency_statement(table_rows)))
     try:
         fig = plot_tradeoff(
             points,
@@ -340,6 +341,27 @@ def tradeoff_section(
         doc.add(Image("figures/tradeoff.png", "social quality vs efficiency"))
     except Exception as exc:  # a figure must not sink the report
         doc.add(Paragraph(f"(trade-off figure failed: {type(exc).__name__}: {exc})"))
+
+
+def efficiency_statement(table_rows: Sequence[list[Any]]) -> str:
+    """Say plainly which planners are more efficient than ``paccet`` (rows of the trade-off
+    table: planner, pass rate, psc, path length ratio, time to goal, ms)."""
+    by_name = {r[0]: r for r in table_rows}
+    if "paccet" not in by_name:
+        return ""
+    ours = by_name["paccet"]
+    notes = []
+    for column, label in ((3, "shorter paths"), (4, "less time to the goal")):
+        better = [
+            f"{r[0]} ({r[column]:.2f} vs {ours[column]:.2f})"
+            for r in table_rows
+            if r[0] != "paccet" and not math.isnan(r[column]) and r[column] < ours[column]
+        ]
+        if better:
+            notes.append(f"{label}: " + ", ".join(better))
+    if not notes:
+        return "No planner is more efficient than `paccet` on path length or time."
+    return "Where baselines beat `paccet` on efficiency — " + "; ".join(notes) + "."
 
 
 def build_report(rows: Sequence[dict[str, Any]], out_dir: Path, suite: str = "paper") -> Path:
