@@ -11,19 +11,11 @@ import pytest
 import yaml
 from typer.testing import CliRunner
 
+from shared import ALL_PLANNERS
 from socialnav.cli import app
 from socialnav.sim.scenario import Scenario, builtin_scenarios, load_scenario
 
-PLANNERS = {
-    "traditional",
-    "proxemic_layer",
-    "weighted_social",
-    "orca",
-    "hl",
-    "social_force",
-    "paccet_paper",
-    "paccet",
-}
+PLANNERS = set(ALL_PLANNERS)
 
 
 def invoke(*args: str):

@@ -18,6 +18,7 @@ import pytest
 from PIL import Image
 from typer.testing import CliRunner
 
+from shared import TABLE1_KEYS
 from socialnav.cli import app
 from socialnav.experiments.storage import load_episode
 from socialnav.metrics import compute_metrics
@@ -25,13 +26,6 @@ from socialnav.metrics import compute_metrics
 SCENARIO = "hallway_passing"
 START = (0.5, -0.45, 0.0)  # hallway_passing.yaml
 GOAL = (5.5, -0.45)
-TABLE1_KEYS = (
-    "total_distance",
-    "time_to_goal",
-    "lateral_distance",
-    "proxemic_intrusions",
-    "deviation_distance",
-)
 ROBOT_COLUMNS = ("t", "robot_x", "robot_y", "robot_yaw", "robot_vx", "robot_vy", "robot_wz")
 
 

@@ -10,19 +10,10 @@ import math
 
 import pytest
 
+from shared import ALL_PLANNERS
 from socialnav.experiments.planners import PLANNERS
 from socialnav.experiments.suite import EpisodeSpec, run_spec
 
-ALL_PLANNERS = [
-    "traditional",
-    "proxemic_layer",
-    "weighted_social",
-    "orca",
-    "hl",
-    "social_force",
-    "paccet_paper",
-    "paccet",
-]
 FINITE = (
     "total_distance",
     "time_to_goal",

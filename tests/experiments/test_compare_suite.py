@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import html
 import re
 from pathlib import Path
 
@@ -11,6 +10,7 @@ import pyarrow.parquet as pq
 import pytest
 from typer.testing import CliRunner
 
+from shared import TABLE1_KEYS, html_tables, md_tables
 from socialnav.cli import app
 from socialnav.experiments.suite import RESULTS_FILE, EpisodeSpec, run_suite, suite_specs
 
@@ -31,13 +31,6 @@ RUN_IDS = [
     "hallway_passing__paccet__pr2__scripted__s0",
     "hallway_passing__traditional__pr2__scripted__s0",
 ]
-TABLE1_KEYS = (
-    "total_distance",
-    "time_to_goal",
-    "lateral_distance",
-    "proxemic_intrusions",
-    "deviation_distance",
-)
 
 
 @pytest.fixture(scope="module")
@@ -60,32 +53,10 @@ def same(a: object, b: object) -> bool:
     return a == b
 
 
-def markdown_tables(text: str) -> list[list[list[str]]]:
-    """Every Markdown table as rows of cells (header included, separator dropped)."""
-    tables, current = [], []
-    for line in [*text.splitlines(), ""]:
-        if line.startswith("|"):
-            if not set(line) <= {"|", "-"}:
-                current.append([c.strip() for c in line.strip("|").split(" | ")])
-        elif current:
-            tables.append(current)
-            current = []
-    return tables
-
-
-def html_tables(text: str) -> list[list[list[str]]]:
-    out = []
-    for table in re.findall(r"<table>(.*?)</table>", text, re.S):
-        rows = re.findall(r"<tr>(.*?)</tr>", table, re.S)
-        cells = [re.findall(r"<t[hd]>(.*?)</t[hd]>", r) for r in rows]
-        out.append([[html.unescape(re.sub(r"<[^>]+>", "", c)) for c in r] for r in cells])
-    return out
-
-
 def table1(out: Path) -> list[list[str]]:
     text = (out / "report.md").read_text()
     section = text.split("## Table 1 reproduction", 1)[1].split("\n## ", 1)[0]
-    return markdown_tables(section)[0]
+    return md_tables(section)[0]
 
 
 # --- results.parquet ------------------------------------------------------------------------------
@@ -130,7 +101,7 @@ def test_report_has_table1_with_the_papers_values_and_ours(report_dir: Path) -> 
 
 
 def test_report_markdown_and_html_show_the_same_tables(report_dir: Path) -> None:
-    md = markdown_tables((report_dir / "report.md").read_text())
+    md = md_tables((report_dir / "report.md").read_text())
     page = html_tables((report_dir / "report.html").read_text())
     assert len(md) == len(page) >= 4
     strip = [[[c.replace("**", "").replace("`", "") for c in r] for r in t] for t in md]

@@ -27,8 +27,13 @@ def rich_record(steps: int = 23, seed: int = 0) -> EpisodeRecord:
     rng = np.random.default_rng(seed)
     ids = np.array([3, 7, 11, 12, 20])
     people = tuple(
-        Person(int(i), tuple(rng.normal(size=2)), tuple(rng.normal(size=2)), float(rng.normal()),
-               0.2 + 0.01 * k)
+        Person(
+            int(i),
+            tuple(rng.normal(size=2)),
+            tuple(rng.normal(size=2)),
+            float(rng.normal()),
+            0.2 + 0.01 * k,
+        )
         for k, i in enumerate(ids)
     )
     context = SocialContext(
@@ -65,8 +70,14 @@ def rich_record(steps: int = 23, seed: int = 0) -> EpisodeRecord:
         collision_person=collisions,
         collision_obstacle=np.roll(collisions, 7),
         status=status,
-        meta={"planner": "paccet", "robot": "pioneer", "seed": seed, "termination": "goal_reached",
-              "planner_ms_median": 3.25, "social_goal": None},
+        meta={
+            "planner": "paccet",
+            "robot": "pioneer",
+            "seed": seed,
+            "termination": "goal_reached",
+            "planner_ms_median": 3.25,
+            "social_goal": None,
+        },
     )
 
 

@@ -91,9 +91,7 @@ def rows_with_passes(passes: dict[tuple[str, str], tuple[int, int]]) -> list[dic
     """``{(planner, family): (passed, runs)}`` as result rows."""
     rows = []
     for (planner, family), (k, n) in passes.items():
-        rows += [
-            {"planner": planner, "family": family, "ok.success": i < k} for i in range(n)
-        ]
+        rows += [{"planner": planner, "family": family, "ok.success": i < k} for i in range(n)]
     return rows
 
 

@@ -8,6 +8,7 @@ import re
 
 import pytest
 
+from shared import html_tables, md_tables
 from socialnav.report.document import (
     Document,
     Heading,
@@ -18,32 +19,6 @@ from socialnav.report.document import (
     to_html,
     to_markdown,
 )
-
-
-def md_tables(text: str) -> list[list[list[str]]]:
-    """Markdown tables as rows of cells; ``\\|`` is a literal pipe inside a cell."""
-    tables, current = [], []
-    for line in [*text.splitlines(), ""]:
-        if line.startswith("|"):
-            if set(line) <= {"|", "-"}:
-                continue
-            cells = re.split(r"(?<!\\) \| ", line[2:-2])
-            cells = [c.replace("\\|", "|").replace("**", "").replace("`", "") for c in cells]
-            current.append(cells)
-        elif current:
-            tables.append(current)
-            current = []
-    return tables
-
-
-def html_tables(text: str) -> list[list[list[str]]]:
-    out = []
-    for table in re.findall(r"<table>(.*?)</table>", text, re.S):
-        rows = re.findall(r"<tr>(.*?)</tr>", table, re.S)
-        cells = [re.findall(r"<t[hd]>(.*?)</t[hd]>", r, re.S) for r in rows]
-        text_of = [[html.unescape(re.sub(r"<[^>]+>", "", c)) for c in r] for r in cells]
-        out.append([[" ".join(c.split()) for c in r] for r in text_of])
-    return out
 
 
 def sample_document() -> Document:

@@ -1,0 +1,55 @@
+"""Expectations and parsers shared by several test folders (on the path via pytest's
+``pythonpath``)."""
+
+from __future__ import annotations
+
+import html
+import re
+
+# Every planner the README and the issue promise, by the name users type.
+ALL_PLANNERS = [
+    "traditional",
+    "proxemic_layer",
+    "weighted_social",
+    "orca",
+    "hl",
+    "social_force",
+    "paccet_paper",
+    "paccet",
+]
+
+# The paper's Table 1 metrics, named as in shared/reference/metrics.md.
+TABLE1_KEYS = (
+    "total_distance",
+    "time_to_goal",
+    "lateral_distance",
+    "proxemic_intrusions",
+    "deviation_distance",
+)
+
+
+def md_tables(text: str) -> list[list[list[str]]]:
+    """Markdown tables as rows of cells; ``\\|`` is a literal pipe inside a cell."""
+    tables, current = [], []
+    for line in [*text.splitlines(), ""]:
+        if line.startswith("|"):
+            if set(line) <= {"|", "-"}:
+                continue
+            cells = re.split(r"(?<!\\) \| ", line[2:-2])
+            cells = [c.replace("\\|", "|").replace("**", "").replace("`", "") for c in cells]
+            current.append(cells)
+        elif current:
+            tables.append(current)
+            current = []
+    return tables
+
+
+def html_tables(text: str) -> list[list[list[str]]]:
+    """HTML tables as rows of cell texts (tags stripped, entities decoded, spaces folded)."""
+    out = []
+    for table in re.findall(r"<table>(.*?)</table>", text, re.S):
+        rows = re.findall(r"<tr>(.*?)</tr>", table, re.S)
+        cells = [re.findall(r"<t[hd]>(.*?)</t[hd]>", r, re.S) for r in rows]
+        text_of = [[html.unescape(re.sub(r"<[^>]+>", "", c)) for c in r] for r in cells]
+        out.append([[" ".join(c.split()) for c in r] for r in text_of])
+    return out
