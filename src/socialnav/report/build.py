@@ -314,7 +314,9 @@ def tradeoff_section(
         time_to_goal = _mean([_metric(r, "time_to_goal") for r in sel])
         success = sum(bool(r.get("ok.success")) for r in sel) / len(sel)
         ms = _mean([float(r.get("planner_ms_median") or math.nan) for r in sel])
-        points.append({"planner": planner, "x": overhead, "y": social})
+        # SPL counts a run that never arrives as 0, so stalling cannot look efficient.
+        spl = _mean([_metric(r, "spl") for r in sel])
+        points.append({"planner": planner, "x": spl, "y": social})
         table_rows.append([planner, success, social, overhead, time_to_goal, ms])
     doc.add(Heading("Social quality vs efficiency"))
     doc.add(
@@ -334,8 +336,10 @@ def tradeoff_section(
     try:
         fig = plot_tradeoff(
             points,
-            "path length / straight line (lower is better)",
-            "share of time outside personal space (higher is better)",
+            "SPL: success × shortest / path length",
+            "share of time outside personal space",
+            x_better="max",
+            y_better="max",
         )
         save_figure(fig, out_dir / "figures" / "tradeoff.png")
         doc.add(Image("figures/tradeoff.png", "social quality vs efficiency"))

@@ -338,7 +338,8 @@ def plot_tradeoff(
     ylab_arrow = {"min": "↓ better", "max": "↑ better"}
     ax.set_ylabel(ylabel + (f"   ({ylab_arrow[y_better]})" if y_better else ""))
     ax.grid(True, color="#e5e5e5", linewidth=0.5)
-    ax.legend(fontsize=8, framealpha=0.85)
+    if ax.get_legend_handles_labels()[0]:  # every row may have been skipped (NaN)
+        ax.legend(fontsize=8, framealpha=0.85)
     if skipped:
         ax.text(
             0.99,
