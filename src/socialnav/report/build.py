@@ -336,7 +336,7 @@ def tradeoff_section(
     try:
         fig = plot_tradeoff(
             points,
-            "SPL: success × shortest / path length",
+            "SPL: success (every condition) × shortest / path length",
             "share of time outside personal space",
             x_better="max",
             y_better="max",
