@@ -15,9 +15,8 @@ from typing import TYPE_CHECKING, ClassVar
 from socialnav.core.trajectories import Trajectories
 from socialnav.planner.critics.base import CRITICS, Critic, CriticScore, CriticUnavailable
 from socialnav.planner.critics.path_distance import (
-    bfs_distance,
+    grid_graph,
     local_plan_cells,
-    passable_cells,
     score_end_points,
     settle_region,
 )
@@ -43,8 +42,8 @@ class GoalDistanceCritic(Critic):
             ctx.extras["local_plan_cells"] = cells
         if cells.shape[0] == 0:
             raise CriticUnavailable("no global plan cell inside the local costmap")
-        ctx.extras["goal_distance_grid"] = bfs_distance(
-            passable_cells(ctx), cells[-1:], settle_region(ctx)
+        ctx.extras["goal_distance_grid"] = grid_graph(ctx).distance(
+            cells[-1:], settle_region(ctx)
         )
 
     def score(self, trajs: Trajectories, ctx: PlanningContext) -> CriticScore:

@@ -11,18 +11,22 @@ Decisions and deviations:
 - LETHAL, INSCRIBED and UNKNOWN cells stop the wavefront except cells under the robot's current
   footprint. A trajectory ending on a blocked cell, an unreached cell or off the map is illegal
   (``unreachable`` / ``off_map``).
-- The BFS stops early once every cell within ``ctx.extras["reach"]`` metres of the robot (set by
-  the local planner from the sampled speeds × ``sim_time``) is settled: BFS settles cells in
-  distance order, so values in that disc are exact; without ``reach`` the whole window is filled.
+- The BFS floods the whole window (one compiled ``scipy.sparse.csgraph`` traversal per grid on a
+  graph shared by both grids); distances are only recovered up to the last cell within
+  ``ctx.extras["reach"]`` metres of the robot (set by the local planner from the sampled speeds ×
+  ``sim_time``): values there are exact, elsewhere exact or ``inf``.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import lru_cache
 from typing import TYPE_CHECKING, ClassVar
 
 import numpy as np
 from numpy.typing import NDArray
+from scipy.sparse import csr_matrix
+from scipy.sparse.csgraph import breadth_first_order
 
 from socialnav.core.geometry import FloatArray, points_in_polygon
 from socialnav.core.trajectories import Trajectories
@@ -97,6 +101,130 @@ def passable_cells(ctx: PlanningContext) -> NDArray[np.bool_]:
     return cached
 
 
+@lru_cache(maxsize=8)
+def _grid_topology(
+    rows: int, cols: int
+) -> tuple[int, int, NDArray[np.int32], NDArray[np.int32], NDArray[np.float64]]:
+    """Static CSR topology of a ``rows × cols`` grid padded with one blocked row above and below
+    and one or two blocked columns so that the row stride ``w`` is odd: every 4-connected move
+    (``±1``, ``±w``) then flips the parity of the flat node id. Returns ``(w, n, base (n, 4)
+    neighbour ids, indptr (n + 2,) with 4 slots per node and an empty super-source row, ones)``.
+    """
+    w = cols + 1 if cols % 2 == 0 else cols + 2
+    n = (rows + 2) * w
+    base = np.arange(n, dtype=np.int32)[:, None] + np.array([-w, -1, 1, w], dtype=np.int32)
+    base[:w] = 0  # pad rows never emit; keeps every id inside [0, n)
+    base[-w:] = 0
+    indptr = np.arange(0, 4 * (n + 1) + 1, 4, dtype=np.int32)
+    indptr[-1] = 4 * n
+    ones = np.ones(4 * n + 2 * (rows + cols) + 8)
+    for a in (base, indptr, ones):
+        a.flags.writeable = False
+    return w, n, base, indptr, ones
+
+
+class GridGraph:
+    """The BFS wavefront graph of one ``passable (rows, cols)`` mask, shared by several searches
+    (the path and goal grids of a cycle).
+
+    Node ``u`` (a padded flat cell id) has edges to its four neighbours if it *emits* — it is
+    passable or a seed of the current search — and none otherwise (its slots point at pad node
+    0). Blocked cells are therefore reached but never expand, which gives the same values as a
+    wavefront that never enters them; they are reset to ``inf`` afterwards.
+    """
+
+    def __init__(self, passable: NDArray[np.bool_]) -> None:
+        passable = np.asarray(passable, dtype=bool)
+        rows, cols = passable.shape
+        self.passable = passable
+        self._w, self._n, self._base, self._indptr, self._ones = _grid_topology(rows, cols)
+        n = self._n
+        emit = np.zeros(n, dtype=bool)
+        self._inner(emit)[...] = passable
+        idx = np.empty(4 * n + 2 * (rows + cols) + 8, dtype=np.int32)
+        np.copyto(idx[: 4 * n], self._base.ravel())
+        # Zero the 4 slots of every non-emitting node at once: 16 bytes = one complex128, and
+        # writing 0 gives all-zero bits (a (n, 4) broadcast mask costs ~5× more).
+        np.putmask(idx[: 4 * n].view(np.complex128), ~emit, 0)
+        self._idx = idx
+
+    def _inner(self, flat: np.ndarray) -> np.ndarray:
+        rows, cols = self.passable.shape
+        w = self._w
+        return flat[w : w + rows * w].reshape(rows, w)[:, :cols]
+
+    def distance(
+        self, seeds: NDArray[np.intp], settle: tuple[slice, slice] | None = None
+    ) -> NDArray[np.float32]:
+        """4-connected BFS step counts ``(rows, cols)`` float32 from ``seeds (K, 2)`` (row, col);
+        see :func:`bfs_distance`."""
+        passable, n, w = self.passable, self._n, self._w
+        seeds = np.asarray(seeds, dtype=np.intp).reshape(-1, 2)
+        dist = np.full(passable.shape, np.inf, dtype=np.float32)
+        if seeds.shape[0] == 0:
+            return dist
+        sf = np.unique((seeds[:, 0] + 1) * w + seeds[:, 1]).astype(np.int32)
+        k = sf.size
+        if self._idx.size < 4 * n + k:
+            grown = np.empty(4 * n + k, dtype=np.int32)
+            grown[: 4 * n] = self._idx[: 4 * n]
+            self._idx = grown
+        idx = self._idx
+        slots = idx[: 4 * n].reshape(n, 4)
+        saved = slots[sf]
+        slots[sf] = self._base[sf]  # seeds emit whatever their cost (ROS)
+        indptr = self._indptr.copy()
+        if k == 1:
+            start = int(sf[0])
+        else:  # a super source (node n) whose row lists the seeds
+            start = n
+            idx[4 * n : 4 * n + k] = sf
+            indptr[-1] = 4 * n + k
+        nnz = int(indptr[-1])
+        ones = self._ones[:nnz] if self._ones.size >= nnz else np.ones(nnz)
+        graph = csr_matrix((ones, idx[:nnz], indptr), shape=(n + 1, n + 1))
+        try:
+            found = breadth_first_order(graph, start, directed=True, return_predecessors=k > 1)
+        finally:
+            slots[sf] = saved
+        if k == 1:
+            order = found[found != 0]  # pad node 0 is reached through non-emitting nodes only
+            # A BFS order lists the levels one after another, and with an odd row stride each
+            # level has one id parity: the level is the number of parity changes so far.
+            par = order & 1
+            depth = np.empty(order.size, dtype=np.int32)
+            depth[0] = 0
+            np.cumsum(par[1:] != par[:-1], out=depth[1:])
+        else:
+            order, pred = found[0][1:], found[1]  # drop the super source
+            if settle is not None:  # levels are only needed up to the last settle-region cell
+                mark = np.zeros(n + 1, dtype=bool)
+                self._inner(mark)[settle] = passable[settle]
+                hit = np.flatnonzero(mark[order])
+                if hit.size:
+                    order = order[: int(hit[-1]) + 1]
+            pos = np.empty(n + 1, dtype=np.int32)
+            pos[order] = np.arange(order.size, dtype=np.int32)
+            ppos = pos[pred[order]]  # position of each node's parent: non-decreasing
+            ppos[:k] = -1  # the seeds' parent is the super source
+            # Level L + 1 starts at the first node whose parent lies at or after the start of
+            # level L: one binary search per level.
+            starts: list[int] = []
+            b = k
+            while b < order.size:
+                starts.append(b)
+                b = max(b + 1, int(ppos.searchsorted(b)))  # always advances
+            depth = np.zeros(order.size, dtype=np.int32)
+            depth[starts] = 1
+            np.cumsum(depth, out=depth)
+        flat = np.full(n + 1, np.inf, dtype=np.float32)
+        flat[order] = depth
+        dist[...] = self._inner(flat)
+        dist[~passable] = np.inf
+        dist[seeds[:, 0], seeds[:, 1]] = 0.0
+        return dist
+
+
 def bfs_distance(
     passable: NDArray[np.bool_],
     seeds: NDArray[np.intp],
@@ -105,62 +233,25 @@ def bfs_distance(
     """4-connected BFS step counts ``(rows, cols)`` float32 from ``seeds (K, 2)`` (row, col).
 
     Seeds are distance 0 whatever their cost (ROS); the wavefront only enters ``passable`` cells;
-    unreached cells are ``inf``. With ``settle`` (a region), the search stops as soon as every
-    passable cell of the region has been reached — values there are exact.
+    unreached cells are ``inf``. With ``settle`` (a region) only the values there are guaranteed:
+    every other cell is either exact or ``inf``.
 
-    Implementation: a dense frontier BFS on a flat, padded copy of the grid (one blocked column
-    and a blocked row above and below), so the four neighbour shifts are contiguous 1-D slices
-    (``±1``, ``±width``) — about 4× faster than 2-D column slices. Each cell's distance is the
-    number of iterations it stayed open, accumulated with one uint8 add per iteration (a masked
-    assignment of ``k`` would cost ~50× more).
+    Implementation: one compiled BFS (``scipy.sparse.csgraph.breadth_first_order``, multiple
+    seeds through a super source) over a CSR graph with a cached static topology (see
+    :class:`GridGraph`); the distances are recovered from the visit order — by node-id parity for
+    a single seed, by the parents' positions otherwise. About 3× faster on a 200 × 200 grid than
+    the previous dense frontier loop, whose ~10 NumPy calls per BFS level dominated.
     """
-    rows, cols = passable.shape
-    w = cols + 1
-    n = (rows + 2) * w
+    return GridGraph(passable).distance(seeds, settle)
 
-    def inner(flat: np.ndarray) -> np.ndarray:
-        return flat[w : w + rows * w].reshape(rows, w)[:, :cols]
 
-    open_ = np.zeros(n, dtype=bool)
-    inner(open_)[...] = passable
-    seed_flat = (seeds[:, 0] + 1) * w + seeds[:, 1]
-    front = np.zeros(n, dtype=bool)
-    front[seed_flat] = True
-    open_[seed_flat] = False
-    nb = np.empty(n, dtype=bool)
-    # Iterations each cell spent open = its distance. A uint8 add is ~3× cheaper than a
-    # bool→uint16 one; it is flushed into ``total`` before it can overflow.
-    count = np.zeros(n, dtype=np.uint8)
-    total = np.zeros(n, dtype=np.uint16)
-    open_u8 = open_.view(np.uint8)
-    region = inner(open_)[settle] if settle is not None else None
-    k = 0
-    while True:
-        np.add(count, open_u8, out=count)
-        k += 1
-        if k % 250 == 0:
-            total += count
-            count[:] = 0
-        nb[:w] = False
-        np.copyto(nb[w:], front[:-w])
-        np.bitwise_or(nb[:-w], front[w:], out=nb[:-w])
-        np.bitwise_or(nb[1:], front[:-1], out=nb[1:])
-        np.bitwise_or(nb[:-1], front[1:], out=nb[:-1])
-        np.bitwise_and(nb, open_, out=nb)
-        np.bitwise_xor(open_, nb, out=open_)  # nb ⊆ open_: removes the newly reached cells
-        front, nb = nb, front
-        # Extra iterations only inflate the counts of still-open (unreached → inf) cells, so
-        # the termination tests can run every few iterations.
-        if k % 4 == 0 and (
-            not front.any() or (region is not None and not region.any())
-        ):
-            break
-    total += count
-    dist = inner(total).astype(np.float32)
-    reached = ~inner(open_) & passable
-    reached[seeds[:, 0], seeds[:, 1]] = True
-    dist[~reached] = np.inf
-    return dist
+def grid_graph(ctx: PlanningContext) -> GridGraph:
+    """The cycle's :class:`GridGraph` of :func:`passable_cells` (cached in ``ctx.extras``)."""
+    cached = ctx.extras.get("bfs_grid_graph")
+    if cached is None:
+        cached = GridGraph(passable_cells(ctx))
+        ctx.extras["bfs_grid_graph"] = cached
+    return cached
 
 
 def settle_region(ctx: PlanningContext) -> tuple[slice, slice] | None:
@@ -213,9 +304,7 @@ class PathDistanceCritic(Critic):
         if cells.shape[0] == 0:
             raise CriticUnavailable("no global plan cell inside the local costmap")
         ctx.extras["local_plan_cells"] = cells
-        ctx.extras["path_distance_grid"] = bfs_distance(
-            passable_cells(ctx), cells, settle_region(ctx)
-        )
+        ctx.extras["path_distance_grid"] = grid_graph(ctx).distance(cells, settle_region(ctx))
 
     def score(self, trajs: Trajectories, ctx: PlanningContext) -> CriticScore:
         if "path_distance_grid" not in ctx.extras:
