@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from socialnav.world.grid import GridGeometry
@@ -103,7 +103,8 @@ def test_people_combine_by_max_and_clip_at_border():
     assert edge.shape == GEO.shape and edge.max() == 76
 
 
-@settings(max_examples=10, deadline=None)
+@settings(max_examples=10, deadline=None, derandomize=True)
+@example(pos=[0.0, 0.0], vel=[0.0, 1.0], passing=True)  # found failing the old tolerance
 @given(
     pos=st.lists(st.floats(-0.9, 0.9), min_size=2, max_size=2),
     vel=st.lists(st.floats(-1.2, 1.2), min_size=2, max_size=2),
@@ -116,9 +117,16 @@ def test_matches_per_cell_transcription(pos, vel, passing):
         vel = [vel[0] + 0.3, vel[1] + 0.2]
     fast = proxemic_costs(geo, [pos], [vel], passing=passing)
     slow = reference(geo, [pos], [vel], passing=passing)
-    # Cells exactly on the lobe's boundary line may differ by the one-sided inclusion rule.
-    mismatch = fast.astype(int) != slow.astype(int)
-    assert mismatch.sum() <= 1
+    # Cells whose centre lies on a boundary of the lobe (the heading line or its perpendicular
+    # through the person) may fall either way by rounding; everywhere else they must agree.
+    xs, ys = geo.cell_centers()
+    heading = np.arctan2(vel[1], vel[0])
+    dx, dy = xs - pos[0], ys - pos[1]
+    across = dx * np.sin(heading) - dy * np.cos(heading)
+    along = dx * np.cos(heading) + dy * np.sin(heading)
+    on_boundary = (np.abs(across) < 1e-9) | (np.abs(along) < 1e-9)
+    mismatch = (fast.astype(int) != slow.astype(int)) & ~on_boundary
+    assert mismatch.sum() == 0
 
 
 def test_empty_and_degenerate_parameters():
