@@ -51,8 +51,10 @@ PATH = np.column_stack([np.linspace(5.0, 9.8, 97), 5.0 + 1.5 * np.sin(np.linspac
 def local_costmap():
     geom = GridGeometry((200, 200), 0.05)
     walls = np.array([[[0.3, 2.0], [9.7, 2.0]], [[0.3, 8.3], [9.7, 8.3]], [[7.0, 2.0], [7.0, 4.3]]])
-    boxes = [np.array([[3.0, 6.0], [4.0, 6.0], [4.0, 7.0], [3.0, 7.0]]),
-             np.array([[6.0, 3.4], [6.6, 3.4], [6.6, 4.0], [6.0, 4.0]])]
+    boxes = [
+        np.array([[3.0, 6.0], [4.0, 6.0], [4.0, 7.0], [3.0, 7.0]]),
+        np.array([[6.0, 3.4], [6.6, 3.4], [6.6, 4.0], [6.0, 4.0]]),
+    ]
     occ = rasterize(geom, segments=walls, polygons=boxes, thickness=0.1)
     return inflate(occ, geom, ROBOT.inscribed_radius)
 
@@ -76,18 +78,26 @@ def rollout_params(twists: np.ndarray, poses_per_rollout: int) -> RolloutParams:
     trans = float(np.hypot(twists[:, 0], twists[:, 1]).max())
     rot = float(np.abs(twists[:, 2]).max())
     sim_time = 1.7
-    return RolloutParams(sim_time, trans * sim_time / steps * 1.0000001,
-                         max(rot * sim_time / steps * 1.0000001, 1e-3))
+    return RolloutParams(
+        sim_time,
+        trans * sim_time / steps * 1.0000001,
+        max(rot * sim_time / steps * 1.0000001, 1e-3),
+    )
 
 
 def objectives(footprint: bool) -> tuple[Objective, ...]:
     p = LocalPlannerParams()
-    return (Objective("navigation", (
-        (PathDistanceCritic(), p.path_distance_bias),
-        (GoalDistanceCritic(), p.goal_distance_bias),
-        (OccupancyCritic(footprint=footprint), p.occdist_scale),
-        (HeadingCritic(), p.heading_scale),
-    )),)
+    return (
+        Objective(
+            "navigation",
+            (
+                (PathDistanceCritic(), p.path_distance_bias),
+                (GoalDistanceCritic(), p.goal_distance_bias),
+                (OccupancyCritic(footprint=footprint), p.occdist_scale),
+                (HeadingCritic(), p.heading_scale),
+            ),
+        ),
+    )
 
 
 def fresh_ctx(reach: float) -> PlanningContext:
@@ -123,8 +133,9 @@ def python_loop(twists: np.ndarray, params: RolloutParams, reach: float):
     ox, oy = COSTMAP.geometry.origin
     res = COSTMAP.resolution
     outline = [tuple(p) for p in footprint_outline(ROBOT.polygon, res / 2)]
-    steps = round(params.sim_time / params.sim_granularity
-                  * float(np.hypot(twists[:, 0], twists[:, 1]).max()))
+    steps = round(
+        params.sim_time / params.sim_granularity * float(np.hypot(twists[:, 0], twists[:, 1]).max())
+    )
     steps = max(steps, 1)
     dt = params.sim_time / steps
     dense, _, tangent = ctx.extras["heading_plan"]
@@ -163,8 +174,10 @@ def python_loop(twists: np.ndarray, params: RolloutParams, reach: float):
             pd, gd = float(pgrid[r, q]), float(ggrid[r, q])
             if not (math.isfinite(pd) and math.isfinite(gd)):
                 continue
-            j = min(range(len(dense_l)), key=lambda k: (dense_l[k][0] - x) ** 2
-                    + (dense_l[k][1] - y) ** 2)
+            j = min(
+                range(len(dense_l)),
+                key=lambda k: (dense_l[k][0] - x) ** 2 + (dense_l[k][1] - y) ** 2,
+            )
             hd = abs((th - tangent[j] + math.pi) % (2 * math.pi) - math.pi)
             cost = 0.6 * pd * res + 0.8 * gd * res + 0.01 * occ * res + 0.2 * hd
             if cost < best:
@@ -191,15 +204,26 @@ def main(quick: bool = False) -> None:
         loop = python_loop(picked, params, reach)
         median, best = time_case(Case(group, "loop", loop, repeats=3, warmup=1))
         scale = n / LOOP_SAMPLES
-        base = Row(group, "python loop (scaled)", median * scale, best * scale, 3, None,
-                   {"note": f"{LOOP_SAMPLES} samples, x{scale:g}"})
+        base = Row(
+            group,
+            "python loop (scaled)",
+            median * scale,
+            best * scale,
+            3,
+            None,
+            {"note": f"{LOOP_SAMPLES} samples, x{scale:g}"},
+        )
         rows.append(base)
         for case in cases:
             median, best = time_case(case)
-            rows.append(Row(group, case.variant, median, best, case.repeats,
-                            base.median_s / median, {}))
-    print_rows(rows, "Local planner cycle (rollout + 4 critics incl. BFS grids + selection), "
-               "10 m x 10 m costmap at 0.05 m")
+            rows.append(
+                Row(group, case.variant, median, best, case.repeats, base.median_s / median, {})
+            )
+    print_rows(
+        rows,
+        "Local planner cycle (rollout + 4 critics incl. BFS grids + selection), "
+        "10 m x 10 m costmap at 0.05 m",
+    )
 
     # Stage breakdown of the real planner (dynamic-window samples, PR2 defaults).
     planner = traditional_planner(ROBOT)
@@ -211,8 +235,10 @@ def main(quick: bool = False) -> None:
         for k, v in rec.timing.items():
             stages.setdefault(k, []).append(v)
     t_poses = rollout(POSE, VEL, rec.twists, ROBOT, LocalPlannerParams()).t.size
-    print(f"\n## LocalPlanner.plan stage medians (PR2 defaults: N = {rec.num_samples}, "
-          f"T = {t_poses})\n")
+    print(
+        f"\n## LocalPlanner.plan stage medians (PR2 defaults: N = {rec.num_samples}, "
+        f"T = {t_poses})\n"
+    )
     for k, v in stages.items():
         print(f"- {k}: {np.median(v) * 1e3:.3f} ms")
 

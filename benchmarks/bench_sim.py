@@ -43,19 +43,39 @@ def main() -> None:
     cases = []
     for name in ("hallway_oncoming", "group_join", "queue_rotated"):
         scn = load_scenario(name)
-        extra = {"people": str(len(scn.people)), "walls": str(len(scn.walls_array()) + 4 * len(
-            scn.map.rectangles))}
+        extra = {
+            "people": str(len(scn.people)),
+            "walls": str(len(scn.walls_array()) + 4 * len(scn.map.rectangles)),
+        }
         cases += [
             Case(name, "bare navground", lambda n=name: bare(n), repeats=5, extra=extra),
-            Case(name, "run_episode", lambda s=scn: run_episode(s, StandStill(), "pr2"),
-                 repeats=5, baseline="bare navground", extra=extra),
-            Case(name, "reactive humans", lambda s=scn: run_episode(
-                s, StandStill(), "pr2", humans="reactive"), repeats=3, baseline="bare navground",
-                extra=extra),
+            Case(
+                name,
+                "run_episode",
+                lambda s=scn: run_episode(s, StandStill(), "pr2"),
+                repeats=5,
+                baseline="bare navground",
+                extra=extra,
+            ),
+            Case(
+                name,
+                "reactive humans",
+                lambda s=scn: run_episode(s, StandStill(), "pr2", humans="reactive"),
+                repeats=3,
+                baseline="bare navground",
+                extra=extra,
+            ),
         ]
     scn = load_scenario("hallway_stationary")
-    cases.append(Case("hallway_stationary", "ORCA robot", lambda: run_episode(scn, "ORCA"),
-                      repeats=3, extra={"people": "1", "walls": "2"}))
+    cases.append(
+        Case(
+            "hallway_stationary",
+            "ORCA robot",
+            lambda: run_episode(scn, "ORCA"),
+            repeats=3,
+            extra={"people": "1", "walls": "2"},
+        )
+    )
     rows = run_table(cases, title="60 s episode (601 samples at 0.1 s), PR2")
     print()
     for r in rows:

@@ -73,8 +73,7 @@ SAMPLINGS = ((9, 5, 9), (13, 9, 17))
 
 def static_costmap() -> Costmap:
     geom = GridGeometry((200, 200), 0.05)
-    walls = np.array([[[0.3, 0.6], [9.7, 0.6]], [[0.3, 9.4], [9.7, 9.4]],
-                      [[6.5, 0.6], [6.5, 3.0]]])
+    walls = np.array([[[0.3, 0.6], [9.7, 0.6]], [[0.3, 9.4], [9.7, 9.4]], [[6.5, 0.6], [6.5, 3.0]]])
     boxes = [np.array([[3.0, 6.8], [3.8, 6.8], [3.8, 7.6], [3.0, 7.6]])]
     pillar = np.array([[5.0, 3.6, 0.2]])
     occ = rasterize(geom, segments=walls, polygons=boxes, discs=pillar, thickness=0.1)
@@ -92,11 +91,13 @@ class Scene:
 
 def group_members() -> np.ndarray:
     return GROUP_CENTER + GROUP_RADIUS * np.column_stack(
-        [np.cos(GROUP_BEARINGS), np.sin(GROUP_BEARINGS)])
+        [np.cos(GROUP_BEARINGS), np.sin(GROUP_BEARINGS)]
+    )
 
 
-def place_people(count: int, path: np.ndarray, static: Costmap, taken: list[np.ndarray],
-                 rng: np.random.Generator) -> list[Person]:
+def place_people(
+    count: int, path: np.ndarray, static: Costmap, taken: list[np.ndarray], rng: np.random.Generator
+) -> list[Person]:
     """``count`` people 0.6–2.5 m beside ``path (P, 2)`` from 3 m behind to 4 m ahead of the
     robot, on free cells, ≥ 0.7 m apart; half of them walking along the path. The first one
     stands 1–1.5 m ahead, 0.6–0.9 m beside the path, so the ID objective is active."""
@@ -139,11 +140,15 @@ def build_scene(n_people: int, static: Costmap) -> Scene:
     if n_people >= 3:
         members = group_members()
         yaws = np.arctan2(*(GROUP_CENTER - members).T[::-1])  # facing the group centre
-        group = [Person(k, (float(x), float(y)), yaw=float(a))
-                 for k, ((x, y), a) in enumerate(zip(members, yaws, strict=True))]
+        group = [
+            Person(k, (float(x), float(y)), yaw=float(a))
+            for k, ((x, y), a) in enumerate(zip(members, yaws, strict=True))
+        ]
         sg = o_formation_join_pose(
-            members, robot_position=POSE[:2],
-            free_fn=lambda pts: free[tuple(static.geometry.world_to_cell(pts).T)])
+            members,
+            robot_position=POSE[:2],
+            free_fn=lambda pts: free[tuple(static.geometry.world_to_cell(pts).T)],
+        )
         goal = np.asarray(sg.pose, dtype=float)
         groups: tuple[Group, ...] = (Group((0, 1, 2)),)
         taken = list(members)
@@ -161,29 +166,50 @@ def build_scene(n_people: int, static: Costmap) -> Scene:
 
 
 def make_context(scene: Scene, predict: bool) -> PlanningContext:
-    return PlanningContext(POSE, VEL, scene.goal, scene.path, scene.costmap, ROBOT,
-                           social=scene.social, social_goal=scene.social_goal,
-                           predict_people=predict)
+    return PlanningContext(
+        POSE,
+        VEL,
+        scene.goal,
+        scene.path,
+        scene.costmap,
+        ROBOT,
+        social=scene.social,
+        social_goal=scene.social_goal,
+        predict_people=predict,
+    )
 
 
-def planners(scene: Scene, params: LocalPlannerParams
-             ) -> list[tuple[str, str | None, LocalPlanner, bool]]:
+def planners(
+    scene: Scene, params: LocalPlannerParams
+) -> list[tuple[str, str | None, LocalPlanner, bool]]:
     """(variant, baseline variant, planner, predict_people) rows of one group."""
     social = scene.social
     ws = "weighted sum"
     ws_paper = "weighted sum, paper obj."
     pairs = paper_objectives(social, has_social_goal(social), params)
-    paper_ws = LocalPlanner(ROBOT, [o for o, _ in pairs], WeightedSum([w for _, w in pairs]),
-                            params)
+    paper_ws = LocalPlanner(
+        ROBOT, [o for o, _ in pairs], WeightedSum([w for _, w in pairs]), params
+    )
     return [
-        (ws, None, build_local_planner("weighted_social", ROBOT, social, params),
-         PRESETS.get("weighted_social").predict_people),
-        ("PaCcET recommended", ws, build_local_planner("paccet", ROBOT, social, params),
-         PRESETS.get("paccet").predict_people),
+        (
+            ws,
+            None,
+            build_local_planner("weighted_social", ROBOT, social, params),
+            PRESETS.get("weighted_social").predict_people,
+        ),
+        (
+            "PaCcET recommended",
+            ws,
+            build_local_planner("paccet", ROBOT, social, params),
+            PRESETS.get("paccet").predict_people,
+        ),
         (ws_paper, None, paper_ws, PRESETS.get("paccet_paper").predict_people),
-        ("PaCcET paper (parity)", ws_paper,
-         build_local_planner("paccet_paper", ROBOT, social, params),
-         PRESETS.get("paccet_paper").predict_people),
+        (
+            "PaCcET paper (parity)",
+            ws_paper,
+            build_local_planner("paccet_paper", ROBOT, social, params),
+            PRESETS.get("paccet_paper").predict_people,
+        ),
     ]
 
 
@@ -207,8 +233,9 @@ class Measured:
         return [t - sum(p[i] for p in parts) for i, t in enumerate(self.total)]
 
 
-def measure_group(rows: list[tuple[LocalPlanner, Callable[[], PlanningContext]]],
-                  repeats: int, warmup: int) -> list[Measured]:
+def measure_group(
+    rows: list[tuple[LocalPlanner, Callable[[], PlanningContext]]], repeats: int, warmup: int
+) -> list[Measured]:
     """Cycles interleaved across the planners of one group, so drift and load hit all alike."""
     out = [Measured() for _ in rows]
     for r in range(warmup + repeats):
@@ -262,8 +289,19 @@ def main(quick: bool = False) -> None:
     repeats, warmup = (5, 1) if quick else (25, 3)
     static = static_costmap()
     scenes = {k: build_scene(k, static) for k in PEOPLE_COUNTS}
-    header = ["people", "N", "variant", "m", "legal", "|ND|", "cycle (median)", "cycle (min)",
-              "vs WS (same obj.)", "select (median)", "select share"]
+    header = [
+        "people",
+        "N",
+        "variant",
+        "m",
+        "legal",
+        "|ND|",
+        "cycle (median)",
+        "cycle (min)",
+        "vs WS (same obj.)",
+        "select (median)",
+        "select share",
+    ]
     body: list[list[str]] = []
     # Stage breakdowns: the brief's case (5 people, N ≈ 400) and the slowest (20, N ≈ 2000).
     wanted = {(5, SAMPLINGS[0]): {}, (20, SAMPLINGS[-1]): {}}
@@ -276,8 +314,13 @@ def main(quick: bool = False) -> None:
             params = LocalPlannerParams(*samples)
             group = planners(scene, params)
             measured = measure_group(
-                [(planner, lambda s=scene, p=predict: make_context(s, p))
-                 for _, _, planner, predict in group], repeats, warmup)
+                [
+                    (planner, lambda s=scene, p=predict: make_context(s, p))
+                    for _, _, planner, predict in group
+                ],
+                repeats,
+                warmup,
+            )
             results = {variant: res for (variant, *_), res in zip(group, measured, strict=True)}
             for (variant, base, *_), res in zip(group, measured, strict=True):
                 rec = res.record
@@ -286,13 +329,21 @@ def main(quick: bool = False) -> None:
                     print(f"warning: {n_people} people, {variant}: status {rec.status}")
                 ratio = "" if base is None else f"{med(res.total) / med(results[base].total):.2f}x"
                 nd = rec.selection.get("nondominated")
-                body.append([str(n_people), str(rec.num_samples), variant,
-                             str(len(rec.objective_names)), f"{rec.num_legal}/{rec.num_samples}",
-                             "" if nd is None else str(int(np.count_nonzero(nd))),
-                             format_seconds(med(res.total)), format_seconds(min(res.total)),
-                             ratio,
-                             format_seconds(med(res.stages.get("select", [0.0]))),
-                             f"{100 * med(res.shares):.1f} %"])
+                body.append(
+                    [
+                        str(n_people),
+                        str(rec.num_samples),
+                        variant,
+                        str(len(rec.objective_names)),
+                        f"{rec.num_legal}/{rec.num_samples}",
+                        "" if nd is None else str(int(np.count_nonzero(nd))),
+                        format_seconds(med(res.total)),
+                        format_seconds(min(res.total)),
+                        ratio,
+                        format_seconds(med(res.stages.get("select", [0.0]))),
+                        f"{100 * med(res.shares):.1f} %",
+                    ]
+                )
             if (n_people, samples) in breakdowns:
                 breakdowns[(n_people, samples)] = results
             rec = measured[0].record
@@ -301,15 +352,18 @@ def main(quick: bool = False) -> None:
             poses_per_rollout[samples] = rollout(POSE, VEL, rec.twists, ROBOT, params).t.size
     sizes = ", ".join(f"N = {sample_counts[k]} ({k[0]}x{k[1]}x{k[2]})" for k in SAMPLINGS)
     steps = {t - 1 for t in poses_per_rollout.values()}
-    print(f"\n## Social planning cycle: PR2 at {VEL[0]} m/s, 10 m x 10 m costmap at 0.05 m, "
-          f"{sizes}, T = {'/'.join(map(str, sorted(steps)))} rollout steps (sim_time 1.7 s); "
-          f"median of {repeats} cycles per row\n")
-    print("`vs WS` = cycle time / the weighted-sum cycle over the same objectives "
-          "(above 1 = slower); |ND| = PaCcET archive size (non-dominated legal candidates)\n")
+    print(
+        f"\n## Social planning cycle: PR2 at {VEL[0]} m/s, 10 m x 10 m costmap at 0.05 m, "
+        f"{sizes}, T = {'/'.join(map(str, sorted(steps)))} rollout steps (sim_time 1.7 s); "
+        f"median of {repeats} cycles per row\n"
+    )
+    print(
+        "`vs WS` = cycle time / the weighted-sum cycle over the same objectives "
+        "(above 1 = slower); |ND| = PaCcET archive size (non-dominated legal candidates)\n"
+    )
     print_table(header, body)
     for (n_people, samples), measured in breakdowns.items():
-        print_breakdown(f"Stage medians, {n_people} people, N = {sample_counts[samples]}",
-                        measured)
+        print_breakdown(f"Stage medians, {n_people} people, N = {sample_counts[samples]}", measured)
 
 
 if __name__ == "__main__":

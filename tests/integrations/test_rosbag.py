@@ -32,21 +32,37 @@ def synthetic_record() -> EpisodeRecord:
     yaw = np.linspace(2.5, 4.0, T)  # unwrapped, as recorders may store it
     poses = np.column_stack([1.0 + 0.3 * times, -0.7 + np.sin(times), yaw])
     twists = np.column_stack([np.full(T, 0.4), np.zeros(T), np.linspace(-0.5, 0.5, T)])
-    people = np.stack([
-        np.column_stack([5.0 - 0.5 * times, np.full(T, 1.0)]),
-        np.column_stack([np.full(T, 3.0), -2.0 + 0.25 * times]),
-    ], axis=1)
+    people = np.stack(
+        [
+            np.column_stack([5.0 - 0.5 * times, np.full(T, 1.0)]),
+            np.column_stack([np.full(T, 3.0), -2.0 + 0.25 * times]),
+        ],
+        axis=1,
+    )
     vel = np.stack([np.tile([-0.5, 0.0], (T, 1)), np.tile([0.0, 0.25], (T, 1))], axis=1)
     walls = np.array([[[0.0, -1.5], [10.0, -1.5]], [[0.0, 1.5], [10.0, 1.5]]])
     status = np.array(["OK"] * (T - 1) + ["GOAL_REACHED"], dtype=object)
     return EpisodeRecord(
-        dt=DT, times=times, robot_poses=poses, robot_twists=twists,
+        dt=DT,
+        times=times,
+        robot_poses=poses,
+        robot_twists=twists,
         robot_footprint=np.array([[0.3, 0.3], [-0.3, 0.3], [-0.3, -0.3], [0.3, -0.3]]),
-        robot_radius=0.43, people_ids=np.array([7, 11]), people_positions=people,
-        people_velocities=vel, people_radii=np.array([0.25, 0.3]),
-        start=poses[0].copy(), goal=np.array([9.0, 0.0, 0.0]), target=np.array([8.0, 0.5, 1.2]),
-        goal_tolerance=0.3, time_limit=60.0, family="hallway", scenario="synthetic",
-        walls=walls, obstacles=(np.array([[4.0, 0.0], [4.5, 0.0], [4.5, 0.5]]),), status=status,
+        robot_radius=0.43,
+        people_ids=np.array([7, 11]),
+        people_positions=people,
+        people_velocities=vel,
+        people_radii=np.array([0.25, 0.3]),
+        start=poses[0].copy(),
+        goal=np.array([9.0, 0.0, 0.0]),
+        target=np.array([8.0, 0.5, 1.2]),
+        goal_tolerance=0.3,
+        time_limit=60.0,
+        family="hallway",
+        scenario="synthetic",
+        walls=walls,
+        obstacles=(np.array([[4.0, 0.0], [4.5, 0.0], [4.5, 0.5]]),),
+        status=status,
     )
 
 
@@ -56,8 +72,9 @@ def record() -> EpisodeRecord:
 
 
 @pytest.fixture(scope="module", params=STORAGES)
-def bag(request: pytest.FixtureRequest, record: EpisodeRecord,
-        tmp_path_factory: pytest.TempPathFactory) -> tuple[str, Path]:
+def bag(
+    request: pytest.FixtureRequest, record: EpisodeRecord, tmp_path_factory: pytest.TempPathFactory
+) -> tuple[str, Path]:
     path = tmp_path_factory.mktemp(request.param) / "missing" / "parents" / "episode"
     out = export_rosbag(record, path, storage=request.param)
     assert out == path
@@ -68,8 +85,10 @@ def messages(path: Path, topic: str) -> list[tuple[int, object]]:
     store = make_typestore()
     with Reader(path) as reader:
         conns = [c for c in reader.connections if c.topic == topic]
-        return [(ts, store.deserialize_cdr(raw, c.msgtype))
-                for c, ts, raw in reader.messages(connections=conns)]
+        return [
+            (ts, store.deserialize_cdr(raw, c.msgtype))
+            for c, ts, raw in reader.messages(connections=conns)
+        ]
 
 
 def test_storage_file_and_parents(bag: tuple[str, Path]) -> None:
@@ -161,8 +180,11 @@ def test_markers_walls_goal_status(bag: tuple[str, Path], record: EpisodeRecord)
     assert [m.id for m in last] == [7, 11]
     assert all(m.type == m.CYLINDER for m in last)
     np.testing.assert_allclose([m.scale.x for m in last], 2 * record.people_radii)
-    np.testing.assert_allclose([[m.pose.position.x, m.pose.position.y] for m in last],
-                               record.people_positions[-1], atol=1e-12)
+    np.testing.assert_allclose(
+        [[m.pose.position.x, m.pose.position.y] for m in last],
+        record.people_positions[-1],
+        atol=1e-12,
+    )
     ((_, goal),) = messages(path, "/social_goal")
     assert goal.pose.position.x == 8.0
     assert 2 * np.arctan2(goal.pose.orientation.z, goal.pose.orientation.w) == pytest.approx(1.2)
@@ -222,7 +244,7 @@ def test_overwrite_refuses_non_bag_folder(record: EpisodeRecord, tmp_path: Path)
     [
         ({"storage": "bag"}, "storage"),
         ({"frame_id": "base_link"}, "distinct"),
-        ({"start_time_ns": -10**9}, "negative"),
+        ({"start_time_ns": -(10**9)}, "negative"),
     ],
 )
 def test_bad_options(record: EpisodeRecord, tmp_path: Path, change: dict, match: str) -> None:
@@ -249,8 +271,9 @@ def test_read_rejects_non_bag(tmp_path: Path) -> None:
         read_rosbag_poses(tmp_path)
 
 
-def test_missing_rosbags_names_the_extra(monkeypatch: pytest.MonkeyPatch,
-                                         record: EpisodeRecord, tmp_path: Path) -> None:
+def test_missing_rosbags_names_the_extra(
+    monkeypatch: pytest.MonkeyPatch, record: EpisodeRecord, tmp_path: Path
+) -> None:
     real_import = builtins.__import__
 
     def fake_import(name: str, *args: object, **kwargs: object) -> object:

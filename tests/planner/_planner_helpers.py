@@ -14,30 +14,49 @@ from socialnav.world.raster import rasterize
 
 
 def blank(rows: int, cols: int, res: float = 0.05, origin=(0.0, 0.0)) -> Costmap:
-    return Costmap(np.full((rows, cols), FREE, dtype=np.uint8), GridGeometry((rows, cols), res,
-                                                                            origin))
+    return Costmap(
+        np.full((rows, cols), FREE, dtype=np.uint8), GridGeometry((rows, cols), res, origin)
+    )
 
 
-def world(width: float, height: float, segments, robot: RobotModel, res: float = 0.05,
-          polygons=()) -> tuple[Costmap, np.ndarray]:
+def world(
+    width: float, height: float, segments, robot: RobotModel, res: float = 0.05, polygons=()
+) -> tuple[Costmap, np.ndarray]:
     """Inflated costmap of walls ``segments (S, 2, 2)`` and ``polygons``; also the obstacle mask."""
     geom = GridGeometry((round(height / res), round(width / res)), res)
-    occ = rasterize(geom, segments=np.asarray(segments, dtype=float).reshape(-1, 2, 2),
-                    polygons=[np.asarray(p, dtype=float) for p in polygons], thickness=0.1)
+    occ = rasterize(
+        geom,
+        segments=np.asarray(segments, dtype=float).reshape(-1, 2, 2),
+        polygons=[np.asarray(p, dtype=float) for p in polygons],
+        thickness=0.1,
+    )
     return inflate(occ, geom, robot.inscribed_radius), occ
 
 
-def context(costmap: Costmap, robot: RobotModel, pose=(0.0, 0.0, 0.0), path=None, goal=None,
-            velocity=(0.0, 0.0, 0.0), **kw) -> PlanningContext:
+def context(
+    costmap: Costmap,
+    robot: RobotModel,
+    pose=(0.0, 0.0, 0.0),
+    path=None,
+    goal=None,
+    velocity=(0.0, 0.0, 0.0),
+    **kw,
+) -> PlanningContext:
     pose = np.asarray(pose, dtype=float)
     goal = np.asarray(goal if goal is not None else (*pose[:2], 0.0), dtype=float)
     path = np.asarray(path if path is not None else [pose[:2], goal[:2]], dtype=float)
-    return PlanningContext(pose=pose, velocity=np.asarray(velocity, dtype=float), goal=goal,
-                           global_path=path, costmap=costmap, robot=robot, **kw)
+    return PlanningContext(
+        pose=pose,
+        velocity=np.asarray(velocity, dtype=float),
+        goal=goal,
+        global_path=path,
+        costmap=costmap,
+        robot=robot,
+        **kw,
+    )
 
 
-def straight(ends: np.ndarray, start=(0.0, 0.0), yaw: float = 0.0, steps: int = 5
-             ) -> Trajectories:
+def straight(ends: np.ndarray, start=(0.0, 0.0), yaw: float = 0.0, steps: int = 5) -> Trajectories:
     """Straight-line trajectories from ``start`` to each of ``ends (N, 2)``, constant ``yaw``."""
     ends = np.asarray(ends, dtype=float).reshape(-1, 2)
     s = np.linspace(0.0, 1.0, steps)

@@ -82,8 +82,9 @@ def maze(rng, rows: int, cols: int) -> np.ndarray:
 def test_random_maps_seeds_and_regions_match_a_queue_bfs(seed):
     rng = np.random.default_rng(seed)
     rows, cols = (int(v) for v in rng.integers(1, 48, 2))
-    passable = (maze(rng, rows, cols) if seed % 3 == 0
-                else rng.random((rows, cols)) > rng.uniform(0.0, 0.5))
+    passable = (
+        maze(rng, rows, cols) if seed % 3 == 0 else rng.random((rows, cols)) > rng.uniform(0.0, 0.5)
+    )
     graph = GridGraph(passable)
     # Several searches on one graph: the seed rows enabled for one search must not leak.
     for trial in range(4):

@@ -37,13 +37,15 @@ def _brute_force_occupancy(trajs, ctx, meter_scoring=True):
         col = np.floor(x).astype(np.intp)
         row = np.floor(y).astype(np.intp)
         inside = (row >= 0) & (row < rows) & (col >= 0) & (col < cols)
-        return np.where(inside, costs[np.clip(row, 0, rows - 1), np.clip(col, 0, cols - 1)],
-                        UNKNOWN)
+        return np.where(
+            inside, costs[np.clip(row, 0, rows - 1), np.clip(col, 0, cols - 1)], UNKNOWN
+        )
 
     for i in range(n):
         poses = trajs.poses[i, 1:] if trajs.poses.shape[1] > 1 else trajs.poses[i]
-        centre = cell_codes((poses[:, 0] - geom.origin[0]) * inv,
-                            (poses[:, 1] - geom.origin[1]) * inv)
+        centre = cell_codes(
+            (poses[:, 0] - geom.origin[0]) * inv, (poses[:, 1] - geom.origin[1]) * inv
+        )
         unknown[i] = (centre == UNKNOWN).any()
         collision[i] = ((centre >= INSCRIBED) & (centre != UNKNOWN)).any()
         cost[i] = np.where(centre < INSCRIBED, centre, 0).max()
@@ -109,8 +111,11 @@ def test_occupancy_fast_path_matches_the_full_outline_at_every_pose(seed):
     centre_illegal = centre.illegal["collision"] | centre.illegal["unknown"]
     assert (collision | unknown).sum() >= centre_illegal.sum() + 4
     assert np.isfinite(cost).any()
-    for critic, reach in ((OccupancyCritic(), None), (OccupancyCritic(), 0.3 * size.min()),
-                          (OccupancyCritic(circumscribed_cost=0), None)):
+    for critic, reach in (
+        (OccupancyCritic(), None),
+        (OccupancyCritic(), 0.3 * size.min()),
+        (OccupancyCritic(circumscribed_cost=0), None),
+    ):
         ctx = _ctx(costmap, robot, pose)
         if reach is not None:
             ctx.extras["reach"] = reach  # the clearance is then computed only near the robot
@@ -171,16 +176,23 @@ def _crowd(rng, k):
         speed = rng.uniform(0.0, 1.2) if rng.random() < 0.5 else 0.0
         heading = rng.uniform(-np.pi, np.pi)
         pos = rng.uniform(-6.0, 6.0, 2)
-        people.append(Person(i, tuple(pos), (speed * np.cos(heading), speed * np.sin(heading)),
-                             radius=float(rng.uniform(0.2, 0.4))))
+        people.append(
+            Person(
+                i,
+                tuple(pos),
+                (speed * np.cos(heading), speed * np.sin(heading)),
+                radius=float(rng.uniform(0.2, 0.4)),
+            )
+        )
     return SocialContext(tuple(people))
 
 
 CRITIC_VARIANTS = [
     InterpersonalCritic(),
     InterpersonalCritic(evaluation="max_over_time"),
-    InterpersonalCritic(evaluation="max_over_time", distance="edge",
-                        footprint_disc="circumscribed"),
+    InterpersonalCritic(
+        evaluation="max_over_time", distance="edge", footprint_disc="circumscribed"
+    ),
     InterpersonalCritic(distance="edge", person_slot=0),
     InterpersonalCritic(person_slot=1),
     InterpersonalCritic(person_slot=2, threshold=3.0),
@@ -200,8 +212,9 @@ def test_interpersonal_culling_and_sharing_match_the_full_array(seed):
     hits = 0
     for critic in CRITIC_VARIANTS:
         want_cost, want_hit = _brute_force_interpersonal(critic, trajs, shared)
-        alone = critic.score(trajs, _ctx(costmap, PR2, pose, social=social,
-                                         predict_people=shared.predict_people))
+        alone = critic.score(
+            trajs, _ctx(costmap, PR2, pose, social=social, predict_people=shared.predict_people)
+        )
         together = critic.score(trajs, shared)  # cache filled/extended by earlier critics
         for got in (alone, together):
             np.testing.assert_array_equal(got.cost, want_cost)

@@ -61,8 +61,9 @@ class _Unavailable(Critic):
 
 def _ctx():
     cm = blank(80, 80)
-    return context(cm, PR2, pose=(2.0, 2.0, 0.0), path=np.array([[2.0, 2.0], [3.5, 2.0]]),
-                   goal=(3.5, 2.0, 0.0))
+    return context(
+        cm, PR2, pose=(2.0, 2.0, 0.0), path=np.array([[2.0, 2.0], [3.5, 2.0]]), goal=(3.5, 2.0, 0.0)
+    )
 
 
 def test_objective_matrix_legal_mask_and_rejections():
@@ -89,8 +90,14 @@ def test_objective_rejects_bad_terms():
 
 def test_weighted_sum_over_one_objective_is_argmin_parity():
     cm, _ = world(6.0, 4.0, [[[3.0, 0.0], [3.0, 2.2]]], PR2)
-    ctx = context(cm, PR2, pose=(1.5, 1.0, 0.3), velocity=(0.2, 0.0, 0.1),
-                  path=np.array([[1.5, 1.0], [2.5, 3.0], [5.0, 3.0]]), goal=(5.0, 3.0, 0.0))
+    ctx = context(
+        cm,
+        PR2,
+        pose=(1.5, 1.0, 0.3),
+        velocity=(0.2, 0.0, 0.1),
+        path=np.array([[1.5, 1.0], [2.5, 3.0], [5.0, 3.0]]),
+        goal=(5.0, 3.0, 0.0),
+    )
     planner = traditional_planner(PR2)
     res = planner.plan(ctx, record=True)
     rec = res.record
@@ -100,9 +107,12 @@ def test_weighted_sum_over_one_objective_is_argmin_parity():
     np.testing.assert_array_equal(res.cmd, rec.twists[rec.chosen])
     # F is exactly Σ bias · raw of the navigation terms
     p = LocalPlannerParams()
-    expected = (p.path_distance_bias * rec.raw["path_distance"]
-                + p.goal_distance_bias * rec.raw["goal_distance"]
-                + p.occdist_scale * rec.raw["occupancy"] + p.heading_scale * rec.raw["heading"])
+    expected = (
+        p.path_distance_bias * rec.raw["path_distance"]
+        + p.goal_distance_bias * rec.raw["goal_distance"]
+        + p.occdist_scale * rec.raw["occupancy"]
+        + p.heading_scale * rec.raw["heading"]
+    )
     np.testing.assert_allclose(rec.F[rec.legal, 0], expected[rec.legal])
     assert rec.num_samples == rec.twists.shape[0] > 100
     assert {"sample", "rollout", "select", "total"} <= set(rec.timing)
@@ -131,8 +141,13 @@ def test_no_legal_trajectory_gives_zero_command():
     costs = cm.costs.copy()
     costs[:] = LETHAL
     costs[38:42, 38:42] = 0  # the robot stands in a hole
-    ctx = context(Costmap(costs, cm.geometry), PR2, pose=(2.0, 2.0, 0.0),
-                  path=np.array([[2.0, 2.0], [3.5, 2.0]]), goal=(3.5, 2.0, 0.0))
+    ctx = context(
+        Costmap(costs, cm.geometry),
+        PR2,
+        pose=(2.0, 2.0, 0.0),
+        path=np.array([[2.0, 2.0], [3.5, 2.0]]),
+        goal=(3.5, 2.0, 0.0),
+    )
     res = traditional_planner(PR2).plan(ctx, record=True)
     assert res.status == PlannerStatus.NO_LEGAL_TRAJECTORY and np.all(res.cmd == 0)
     assert res.record.rejected[("occupancy", "collision")] == res.record.num_samples
@@ -175,8 +190,11 @@ def test_params_validation():
     with pytest.raises(ConfigurationError):
         LocalPlannerParams(vx_samples=0)
     objs = traditional_objectives()
-    assert [type(c) for c, _ in objs[0].terms][:3] == [PathDistanceCritic, GoalDistanceCritic,
-                                                       OccupancyCritic]
+    assert [type(c) for c, _ in objs[0].terms][:3] == [
+        PathDistanceCritic,
+        GoalDistanceCritic,
+        OccupancyCritic,
+    ]
 
 
 def test_clearance_rays():
@@ -189,19 +207,36 @@ def test_clearance_rays():
 
 
 def test_recovery_then_stuck_when_boxed_in():
-    cm, _ = world(4.0, 4.0, [[[1.4, 1.4], [2.6, 1.4]], [[2.6, 1.4], [2.6, 2.6]],
-                             [[2.6, 2.6], [1.4, 2.6]], [[1.4, 2.6], [1.4, 1.4]]], PIONEER)
-    planner = RecoveringPlanner(traditional_planner(PIONEER),
-                                RecoveryParams(progress_time=3.0, max_recoveries=3))
+    cm, _ = world(
+        4.0,
+        4.0,
+        [
+            [[1.4, 1.4], [2.6, 1.4]],
+            [[2.6, 1.4], [2.6, 2.6]],
+            [[2.6, 2.6], [1.4, 2.6]],
+            [[1.4, 2.6], [1.4, 1.4]],
+        ],
+        PIONEER,
+    )
+    planner = RecoveringPlanner(
+        traditional_planner(PIONEER), RecoveryParams(progress_time=3.0, max_recoveries=3)
+    )
     pose = np.array([2.0, 2.0, 0.0])
     seen = []
     for k in range(80):
-        ctx = context(cm, PIONEER, pose=pose, path=np.array([[2.0, 2.0], [3.5, 2.0]]),
-                      goal=(3.5, 2.0, 0.0), time=0.1 * k)
+        ctx = context(
+            cm,
+            PIONEER,
+            pose=pose,
+            path=np.array([[2.0, 2.0], [3.5, 2.0]]),
+            goal=(3.5, 2.0, 0.0),
+            time=0.1 * k,
+        )
         res = planner.plan(ctx)
         seen.append(res.status)
-        pose = pose + 0.1 * np.array([np.cos(pose[2]) * res.cmd[0], np.sin(pose[2]) * res.cmd[0],
-                                      res.cmd[2]])
+        pose = pose + 0.1 * np.array(
+            [np.cos(pose[2]) * res.cmd[0], np.sin(pose[2]) * res.cmd[0], res.cmd[2]]
+        )
     assert PlannerStatus.RECOVERING in seen
     assert seen[-1] == PlannerStatus.STUCK
     assert np.hypot(pose[0] - 2.0, pose[1] - 2.0) < 0.3

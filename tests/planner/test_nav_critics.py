@@ -30,6 +30,7 @@ def test_registered_names():
 
 # ---- BFS --------------------------------------------------------------------------------
 
+
 def test_bfs_is_manhattan_on_an_empty_grid():
     d = bfs_distance(np.ones((7, 9), dtype=bool), np.array([[3, 4]]))
     r, c = np.mgrid[0:7, 0:9]
@@ -60,8 +61,12 @@ def _reference_bfs(passable, seeds):
     while queue:
         r, c = queue.popleft()
         for rr, cc in ((r + 1, c), (r - 1, c), (r, c + 1), (r, c - 1)):
-            if (0 <= rr < passable.shape[0] and 0 <= cc < passable.shape[1]
-                    and passable[rr, cc] and np.isinf(dist[rr, cc])):
+            if (
+                0 <= rr < passable.shape[0]
+                and 0 <= cc < passable.shape[1]
+                and passable[rr, cc]
+                and np.isinf(dist[rr, cc])
+            ):
                 dist[rr, cc] = dist[r, c] + 1
                 queue.append((rr, cc))
     return dist
@@ -97,6 +102,7 @@ def test_bfs_early_stop_is_exact_inside_the_settled_region():
 
 
 # ---- path / goal distance ---------------------------------------------------------------
+
 
 def _corridor_ctx(robot=TINY):
     cm = blank(40, 100)  # 5 m × 2 m at 0.05
@@ -142,8 +148,13 @@ def test_cells_under_the_current_footprint_let_the_wavefront_through():
     costs = cm.costs.copy()
     costs[:, 8:13] = INSCRIBED  # the robot stands in an inscribed band
     cm = Costmap(costs, cm.geometry)
-    ctx = context(cm, PIONEER, pose=(0.5, 1.0, 0.0), path=np.array([[0.5, 1.0], [4.5, 1.0]]),
-                  goal=(4.5, 1.0, 0.0))
+    ctx = context(
+        cm,
+        PIONEER,
+        pose=(0.5, 1.0, 0.0),
+        path=np.array([[0.5, 1.0], [4.5, 1.0]]),
+        goal=(4.5, 1.0, 0.0),
+    )
     tr = straight(np.array([[1.0, 1.0]]), start=(0.5, 1.0))
     assert np.isfinite(GoalDistanceCritic().score(tr, ctx).cost[0])
     far = context(cm, PIONEER, pose=(1.5, 1.0, 0.0), path=ctx.global_path, goal=ctx.goal)
@@ -152,13 +163,15 @@ def test_cells_under_the_current_footprint_let_the_wavefront_through():
 
 
 def test_no_plan_in_window_is_unavailable():
-    ctx = context(blank(20, 20), TINY, pose=(0.5, 0.5, 0.0), path=np.array([[5.0, 5.0],
-                                                                          [6.0, 5.0]]))
+    ctx = context(
+        blank(20, 20), TINY, pose=(0.5, 0.5, 0.0), path=np.array([[5.0, 5.0], [6.0, 5.0]])
+    )
     with pytest.raises(CriticUnavailable):
         PathDistanceCritic().prepare(ctx)
 
 
 # ---- occupancy --------------------------------------------------------------------------
+
 
 def _wall_world(robot):
     geom = GridGeometry((80, 120), 0.05)
@@ -232,6 +245,7 @@ def test_shortcuts_agree_with_checking_every_pose(robot):
 
 # ---- heading ----------------------------------------------------------------------------
 
+
 def test_heading_difference_to_the_path_direction():
     cm = blank(60, 60)
     path = np.array([[0.5, 1.5], [2.5, 1.5]])
@@ -249,14 +263,20 @@ def test_heading_difference_to_the_path_direction():
 
 def test_heading_near_the_end_uses_the_tangent():
     cm = blank(60, 60)
-    ctx = context(cm, TINY, pose=(0.5, 1.5, 0.0), path=np.array([[0.5, 1.5], [1.5, 2.5]]),
-                  goal=(1.5, 2.5, 0.0))
+    ctx = context(
+        cm,
+        TINY,
+        pose=(0.5, 1.5, 0.0),
+        path=np.array([[0.5, 1.5], [1.5, 2.5]]),
+        goal=(1.5, 2.5, 0.0),
+    )
     tr = straight(np.array([[1.5, 2.5]]), start=(0.5, 1.5), yaw=np.pi / 4)
     assert HeadingCritic().score(tr, ctx).cost[0] == pytest.approx(0.0, abs=1e-9)
 
 
-@pytest.mark.parametrize("critic", [PathDistanceCritic(), GoalDistanceCritic(),
-                                    OccupancyCritic(), HeadingCritic()])
+@pytest.mark.parametrize(
+    "critic", [PathDistanceCritic(), GoalDistanceCritic(), OccupancyCritic(), HeadingCritic()]
+)
 def test_permutation_equivariance(critic):
     cm = _wall_world(PR2)
     rng = np.random.default_rng(1)
@@ -265,8 +285,9 @@ def test_permutation_equivariance(critic):
     path = np.array([[3.0, 2.0], [4.0, 2.0], [4.2, 3.8]])
     perm = rng.permutation(30)
     a = critic.score(tr, context(cm, PR2, pose=(3.0, 2.0, 0.0), path=path, goal=(4.2, 3.8, 0)))
-    b = critic.score(tr.take(perm),
-                     context(cm, PR2, pose=(3.0, 2.0, 0.0), path=path, goal=(4.2, 3.8, 0)))
+    b = critic.score(
+        tr.take(perm), context(cm, PR2, pose=(3.0, 2.0, 0.0), path=path, goal=(4.2, 3.8, 0))
+    )
     np.testing.assert_array_equal(a.cost[perm], b.cost)
     for k in a.illegal:
         np.testing.assert_array_equal(np.asarray(a.illegal[k])[perm], b.illegal[k])

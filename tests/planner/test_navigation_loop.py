@@ -13,8 +13,18 @@ from socialnav.planner.navigator import Navigator
 from socialnav.planner.recovery import RecoveringPlanner, RecoveryParams
 
 
-def drive(robot: RobotModel, segments, start, goal, steps: int, polygons=(), window=10.0,
-          recovery=None, width=8.0, height=4.0):
+def drive(
+    robot: RobotModel,
+    segments,
+    start,
+    goal,
+    steps: int,
+    polygons=(),
+    window=10.0,
+    recovery=None,
+    width=8.0,
+    height=4.0,
+):
     cm, occ = world(width, height, segments, robot, polygons=polygons)
     planner = RecoveringPlanner(traditional_planner(robot), recovery)
     nav = Navigator(robot, planner, cm, np.asarray(goal, dtype=float), window_size=window)
@@ -46,8 +56,7 @@ def test_corridor_to_goal(robot):
 
 def test_around_a_box():
     box = [np.array([[3.4, 1.4], [4.6, 1.4], [4.6, 2.6], [3.4, 2.6]])]
-    pose, statuses = drive(PIONEER, CORRIDOR, (1.0, 2.0, 0.0), (6.5, 2.0, 0.0), 500,
-                           polygons=box)
+    pose, statuses = drive(PIONEER, CORRIDOR, (1.0, 2.0, 0.0), (6.5, 2.0, 0.0), 500, polygons=box)
     assert statuses[-1] == PlannerStatus.GOAL_REACHED
     assert np.hypot(pose[0] - 6.5, pose[1] - 2.0) <= 0.1 + 1e-9
 
@@ -57,8 +66,15 @@ def test_dead_end_recovers_then_gives_up_without_collision():
     # falls back to a straight line. With a 3 m local window the pocket is out of sight at first:
     # the robot drives up the corridor, then every trajectory becomes illegal.
     walls = [*CORRIDOR, [[5.0, 0.5], [5.0, 3.5]], [[5.8, 0.5], [5.8, 3.5]]]
-    pose, statuses = drive(PR2, walls, (1.0, 2.0, 0.0), (5.4, 2.0, 0.0), 400, window=3.0,
-                           recovery=RecoveryParams(progress_time=5.0))
+    pose, statuses = drive(
+        PR2,
+        walls,
+        (1.0, 2.0, 0.0),
+        (5.4, 2.0, 0.0),
+        400,
+        window=3.0,
+        recovery=RecoveryParams(progress_time=5.0),
+    )
     assert statuses[-1] == PlannerStatus.STUCK
     assert PlannerStatus.RECOVERING in statuses and PlannerStatus.OK in statuses
     assert 2.5 < pose[0] < 5.0
@@ -75,8 +91,13 @@ class _Goal:
 def test_waypoint_social_goal_is_visited_first_then_the_given_goal():
     cm, _ = world(8.0, 4.0, CORRIDOR, PR2)
     waypoint = _Goal((3.5, 2.8, 0.0), True)
-    nav = Navigator(PR2, RecoveringPlanner(traditional_planner(PR2)), cm,
-                    np.array([6.5, 2.0, 0.0]), social_goal_fn=lambda s, g, p: waypoint)
+    nav = Navigator(
+        PR2,
+        RecoveringPlanner(traditional_planner(PR2)),
+        cm,
+        np.array([6.5, 2.0, 0.0]),
+        social_goal_fn=lambda s, g, p: waypoint,
+    )
     pose, vel = np.array([1.0, 2.0, 0.0]), np.zeros(3)
     closest = np.inf
     for k in range(500):
@@ -97,8 +118,9 @@ def test_navigator_step_never_raises():
     def broken(social, goal, pose):
         raise RuntimeError("perception failed")
 
-    nav = Navigator(PR2, traditional_planner(PR2), cm, np.array([6.5, 2.0, 0.0]),
-                    social_goal_fn=broken)
+    nav = Navigator(
+        PR2, traditional_planner(PR2), cm, np.array([6.5, 2.0, 0.0]), social_goal_fn=broken
+    )
     res = nav.step(0.0, np.array([1.0, 2.0, 0.0]), np.zeros(3), SocialContext())
     assert res.status == PlannerStatus.INVALID_INPUT and "perception failed" in res.message
     nav = Navigator(PR2, traditional_planner(PR2), cm, np.array([6.5, 2.0, 0.0]))

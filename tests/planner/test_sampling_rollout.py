@@ -61,7 +61,9 @@ def test_no_in_place_rotation_when_standstill_is_out_of_reach():
 
 @settings(max_examples=40, deadline=None)
 @given(
-    vx=st.floats(-0.1, 0.55), vy=st.floats(-0.3, 0.3), w=st.floats(-1.0, 1.0),
+    vx=st.floats(-0.1, 0.55),
+    vy=st.floats(-0.3, 0.3),
+    w=st.floats(-1.0, 1.0),
     holonomic=st.booleans(),
 )
 def test_samples_stay_in_the_dynamic_window(vx, vy, w, holonomic):
@@ -73,8 +75,9 @@ def test_samples_stay_in_the_dynamic_window(vx, vy, w, holonomic):
     assert np.all(tw[:, 0] <= robot.max_vel_x + 1e-12) and np.all(tw[:, 0] >= robot.min_vel_x)
     assert np.all(np.abs(tw[:, 1]) <= robot.max_vel_y + 1e-12)
     assert np.all(np.abs(tw[:, 2]) <= robot.max_vel_theta + 1e-12)
-    vel_c = np.clip(vel, [robot.min_vel_x, -robot.max_vel_y, -1.0],
-                    [robot.max_vel_x, robot.max_vel_y, 1.0])
+    vel_c = np.clip(
+        vel, [robot.min_vel_x, -robot.max_vel_y, -1.0], [robot.max_vel_x, robot.max_vel_y, 1.0]
+    )
     translating = np.hypot(tw[:, 0], tw[:, 1]) > 0
     assert np.all(np.abs(tw[translating] - vel_c) <= lim)
 
@@ -95,8 +98,9 @@ def test_time_grid_is_shared_and_starts_now():
 
 
 def test_straight_line():
-    tr = rollout(np.array([1.0, 1.0, np.pi / 4]), np.zeros(3), np.array([[0.4, 0.0, 0.0]]),
-                 PR2, PARAMS)
+    tr = rollout(
+        np.array([1.0, 1.0, np.pi / 4]), np.zeros(3), np.array([[0.4, 0.0, 0.0]]), PR2, PARAMS
+    )
     d = 0.4 * tr.t
     np.testing.assert_allclose(tr.poses[0, :, 0], 1.0 + d / np.sqrt(2), atol=1e-12)
     np.testing.assert_allclose(tr.poses[0, :, 1], 1.0 + d / np.sqrt(2), atol=1e-12)
@@ -114,8 +118,7 @@ def test_circle_of_radius_v_over_w():
 
 
 def test_pure_rotation_stays_in_place():
-    tr = rollout(np.array([2.0, -1.0, 3.0]), np.zeros(3), np.array([[0.0, 0.0, -0.8]]), PR2,
-                 PARAMS)
+    tr = rollout(np.array([2.0, -1.0, 3.0]), np.zeros(3), np.array([[0.0, 0.0, -0.8]]), PR2, PARAMS)
     np.testing.assert_allclose(tr.poses[0, :, :2], [[2.0, -1.0]] * tr.t.size, atol=1e-12)
     expected = (3.0 - 0.8 * tr.t + np.pi) % (2 * np.pi) - np.pi
     np.testing.assert_allclose(tr.poses[0, :, 2], expected, atol=1e-12)
@@ -131,7 +134,6 @@ def test_holonomic_diagonal_in_body_frame():
 def test_float32_rollout_matches_float64():
     tw = sample_twists(PR2, np.zeros(3), SamplingParams())
     a = rollout(np.array([3.0, 4.0, 1.0]), np.zeros(3), tw, PR2, RolloutParams())
-    b = rollout(np.array([3.0, 4.0, 1.0]), np.zeros(3), tw, PR2, RolloutParams(),
-                dtype=np.float32)
+    b = rollout(np.array([3.0, 4.0, 1.0]), np.zeros(3), tw, PR2, RolloutParams(), dtype=np.float32)
     assert b.poses.dtype == np.float32
     np.testing.assert_allclose(b.poses[..., :2], a.poses[..., :2], atol=1e-5)

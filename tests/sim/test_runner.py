@@ -30,17 +30,29 @@ class ConstantTwist:
 
 
 def corridor(people: list[dict], start=(1.0, 0.0, 0.0), goal=(19.0, 0.0, 0.0), **kw) -> Scenario:
-    return Scenario.model_validate({
-        "name": "test", "family": "hallway",
-        "map": {"walls": [[[0, -1.5], [20, -1.5]], [[0, 1.5], [20, 1.5]]]},
-        "start": start, "goal": goal, "people": people, **kw,
-    })
+    return Scenario.model_validate(
+        {
+            "name": "test",
+            "family": "hallway",
+            "map": {"walls": [[[0, -1.5], [20, -1.5]], [[0, 1.5], [20, 1.5]]]},
+            "start": start,
+            "goal": goal,
+            "people": people,
+            **kw,
+        }
+    )
 
 
 def test_scripted_walker_moves_at_its_speed_in_a_straight_line() -> None:
-    scn = corridor([{"id": 1, "position": [5.0, 0.2],
-                     "behavior": {"type": "walk", "speed": 0.25, "heading": 0.0,
-                                  "until": [6.0, 0.2]}}])
+    scn = corridor(
+        [
+            {
+                "id": 1,
+                "position": [5.0, 0.2],
+                "behavior": {"type": "walk", "speed": 0.25, "heading": 0.0, "until": [6.0, 0.2]},
+            }
+        ]
+    )
     behavior = ControllerBehavior()  # no controller: the robot stands still
     simw = build_world(scn, PR2, behavior)
     xs, vs = [], []
@@ -62,8 +74,9 @@ def test_scripted_walker_moves_at_its_speed_in_a_straight_line() -> None:
 
 
 def test_go_to_goal_episode_records_consistent_shapes() -> None:
-    res = run_episode("hallway_stationary", GoToGoalController(), "pr2", seed=0,
-                      record_diagnostics=True)
+    res = run_episode(
+        "hallway_stationary", GoToGoalController(), "pr2", seed=0, record_diagnostics=True
+    )
     rec = res.record
     t = rec.num_steps
     assert rec.meta["termination"] == "goal_reached"
@@ -76,8 +89,9 @@ def test_go_to_goal_episode_records_consistent_shapes() -> None:
     np.testing.assert_allclose(rec.robot_poses[0], [1.0, 0.0, 0.0])
     # Commands act over one period: consecutive poses follow the recorded body twists.
     step = np.linalg.norm(np.diff(rec.robot_xy, axis=0), axis=1)
-    np.testing.assert_allclose(step, np.linalg.norm(rec.robot_twists[:-1, :2], axis=1) * 0.1,
-                               atol=1e-5)
+    np.testing.assert_allclose(
+        step, np.linalg.norm(rec.robot_twists[:-1, :2], axis=1) * 0.1, atol=1e-5
+    )
     assert np.all(rec.robot_twists[:, 0] <= PR2.max_vel_x + 1e-9)
     np.testing.assert_allclose(rec.people_positions[:, 0], [[10.0, 0.2]] * t, atol=1e-6)
     assert rec.scenario == "hallway_stationary" and rec.family == "hallway"
@@ -111,8 +125,9 @@ def test_wall_collision_flagged() -> None:
 
 def test_static_geometry_desk_and_disc() -> None:
     s = load_scenario("queue_line")
-    static = StaticGeometry(s.walls_array(), tuple(s.obstacle_polygons()),
-                            np.array([[3.0, 3.0, 0.5]]))
+    static = StaticGeometry(
+        s.walls_array(), tuple(s.obstacle_polygons()), np.array([[3.0, 3.0, 0.5]])
+    )
     square = PR2.polygon
 
     def at(x: float, y: float) -> np.ndarray:
@@ -140,16 +155,22 @@ def test_pioneer_never_moves_sideways() -> None:
     # The body velocity the controller sees is the previous command.
     np.testing.assert_allclose(ctrl.seen[3][2], [0.4, 0.0, 0.5], atol=1e-5)
     heading = np.arctan2(*np.diff(rec.robot_xy[:20], axis=0).T[::-1])
-    np.testing.assert_allclose(np.cos(heading - rec.robot_poses[:19, 2] - 0.025), 1.0,
-                               atol=1e-3)
+    np.testing.assert_allclose(np.cos(heading - rec.robot_poses[:19, 2] - 0.025), 1.0, atol=1e-3)
 
 
 def test_same_seed_identical_record_and_seeds_differ() -> None:
     a = run_episode("hallway_passing", "go_to_goal", "pioneer", seed=3).record
     b = run_episode("hallway_passing", "go_to_goal", "pioneer", seed=3).record
     c = run_episode("hallway_passing", "go_to_goal", "pioneer", seed=4).record
-    for name in ("times", "robot_poses", "robot_twists", "people_positions",
-                 "people_velocities", "collision_person", "status"):
+    for name in (
+        "times",
+        "robot_poses",
+        "robot_twists",
+        "people_positions",
+        "people_velocities",
+        "collision_person",
+        "status",
+    ):
         np.testing.assert_array_equal(getattr(a, name), getattr(b, name))
     assert a.meta == b.meta
     assert not np.array_equal(a.people_positions[0], c.people_positions[0])
@@ -183,8 +204,13 @@ def test_social_goal_is_the_target() -> None:
 
 def test_reactive_humans_react() -> None:
     # A reactive walker heading at a robot standing in its way deviates; a scripted one doesn't.
-    ppl = [{"id": 1, "position": [8.0, 0.0],
-            "behavior": {"type": "walk", "velocity": [-1.0, 0.0], "until": [1.0, 0.0]}}]
+    ppl = [
+        {
+            "id": 1,
+            "position": [8.0, 0.0],
+            "behavior": {"type": "walk", "velocity": [-1.0, 0.0], "until": [1.0, 0.0]},
+        }
+    ]
     scn = corridor(ppl, start=(4.0, 0.0, 0.0), time_limit=6.0)
     still = ConstantTwist((0.0, 0.0, 0.0))
     scripted = run_episode(scn, still, "pr2").record

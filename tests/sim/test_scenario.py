@@ -22,9 +22,19 @@ from socialnav.sim.scenario import (
 from socialnav.world.grid import LETHAL, GridGeometry
 
 EXPECTED = {
-    "hallway_stationary", "hallway_overtake", "hallway_oncoming", "hallway_headon",
-    "hallway_passing", "gallery_present", "gallery_activity", "queue_line", "queue_shifted",
-    "queue_rotated", "group_join", "group_join_back", "group_lead",
+    "hallway_stationary",
+    "hallway_overtake",
+    "hallway_oncoming",
+    "hallway_headon",
+    "hallway_passing",
+    "gallery_present",
+    "gallery_activity",
+    "queue_line",
+    "queue_shifted",
+    "queue_rotated",
+    "group_join",
+    "group_join_back",
+    "group_lead",
 }
 
 
@@ -91,8 +101,10 @@ def test_gallery_queue_group_geometry() -> None:
     # The desk's short axis (its facing) is along the diagonal: front edge centre at 0.3 m SW.
     edges = np.linalg.norm(np.roll(desk, -1, axis=0) - desk, axis=1)
     np.testing.assert_allclose(sorted(edges), [0.6, 0.6, 1.6, 1.6], atol=1e-4)
-    np.testing.assert_allclose([p.position for p in q.people],
-                               [(17.36, 17.36), (16.80, 16.80), (16.23, 16.23), (15.67, 15.67)])
+    np.testing.assert_allclose(
+        [p.position for p in q.people],
+        [(17.36, 17.36), (16.80, 16.80), (16.23, 16.23), (15.67, 15.67)],
+    )
     assert q.queues[0].members == [1, 2, 3, 4] and q.goal[:2] == (17.43, 17.43)
     # Queue people face the desk.
     for p in q.people:
@@ -234,8 +246,13 @@ def test_ros_map_scenario(tmp_path: Path) -> None:
     occ = np.zeros(geom.shape, dtype=bool)
     occ[:, 30] = True  # a wall at x = 3.0 .. 3.1
     save_map(OccupancyMap.from_masks(occ, geom), tmp_path / "map.yaml")
-    data = {"name": "roomy", "family": "custom", "map": {"ros_map": "map.yaml"},
-            "start": [1, 2, 0], "goal": [5, 2, 0]}
+    data = {
+        "name": "roomy",
+        "family": "custom",
+        "map": {"ros_map": "map.yaml"},
+        "start": [1, 2, 0],
+        "goal": [5, 2, 0],
+    }
     s = load_scenario(_write(tmp_path, data, "roomy.yaml"))
     walls = s.walls_array()
     xs = walls[..., 0]

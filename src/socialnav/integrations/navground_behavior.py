@@ -83,8 +83,11 @@ class SocialNavBehavior(ControllerBehavior, name="SocialNav"):
             for s in self._state.line_obstacles
             if float(s.length) > 0
         ]
-        discs = [{"center": tuple(map(float, d.position)), "radius": float(d.radius)}
-                 for d in self._state.static_obstacles if float(d.radius) > 0]
+        discs = [
+            {"center": tuple(map(float, d.position)), "radius": float(d.radius)}
+            for d in self._state.static_obstacles
+            if float(d.radius) > 0
+        ]
         start = pose_of(self)
         return Scenario.model_validate(
             {
@@ -106,8 +109,15 @@ class SocialNavBehavior(ControllerBehavior, name="SocialNav"):
         for i, n in zip(ids, neighbors, strict=True):
             v = np.asarray(n.velocity, dtype=float)
             yaw = math.atan2(v[1], v[0]) if np.hypot(*v) > 1e-6 else 0.0
-            people.append(Person(i, (float(n.position[0]), float(n.position[1])),
-                                 (float(v[0]), float(v[1])), yaw, max(float(n.radius), 1e-3)))
+            people.append(
+                Person(
+                    i,
+                    (float(n.position[0]), float(n.position[1])),
+                    (float(v[0]), float(v[1])),
+                    yaw,
+                    max(float(n.radius), 1e-3),
+                )
+            )
         return SocialContext(tuple(people))
 
     def observation(self, time_step: float) -> tuple[float, SocialContext]:

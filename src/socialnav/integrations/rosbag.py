@@ -113,10 +113,18 @@ def _rosbags() -> SimpleNamespace:
             "pip install 'socialnav[rosbag]'"
         ) from exc
     return SimpleNamespace(
-        Qos=Qos, QosDurability=QosDurability, QosHistory=QosHistory,
-        QosLiveliness=QosLiveliness, QosReliability=QosReliability, QosTime=QosTime,
-        Reader=Reader, StoragePlugin=StoragePlugin, Writer=Writer,
-        Stores=Stores, get_types_from_msg=get_types_from_msg, get_typestore=get_typestore,
+        Qos=Qos,
+        QosDurability=QosDurability,
+        QosHistory=QosHistory,
+        QosLiveliness=QosLiveliness,
+        QosReliability=QosReliability,
+        QosTime=QosTime,
+        Reader=Reader,
+        StoragePlugin=StoragePlugin,
+        Writer=Writer,
+        Stores=Stores,
+        get_types_from_msg=get_types_from_msg,
+        get_typestore=get_typestore,
     )
 
 
@@ -139,8 +147,9 @@ def _stamps_ns(times: FloatArray, start_time_ns: int) -> np.ndarray:
     return int(start_time_ns) + np.rint(np.asarray(times, dtype=float) * 1e9).astype(np.int64)
 
 
-def _validate(record: EpisodeRecord, storage: str, frame_id: str, base_frame: str,
-              start_time_ns: int) -> np.ndarray:
+def _validate(
+    record: EpisodeRecord, storage: str, frame_id: str, base_frame: str, start_time_ns: int
+) -> np.ndarray:
     """Check the record and options; return the ``(T,)`` int64 stamps (ns)."""
     if storage not in ("mcap", "sqlite3"):
         raise ValueError(f"storage must be 'mcap' or 'sqlite3', got {storage!r}")
@@ -152,9 +161,14 @@ def _validate(record: EpisodeRecord, storage: str, frame_id: str, base_frame: st
     if times.ndim != 1 or times.size == 0:
         raise ValueError(f"record.times must be a non-empty 1-D array, got shape {times.shape}")
     arrays = {
-        "times": times, "robot_poses": record.robot_poses, "robot_twists": record.robot_twists,
-        "people_positions": record.people_positions, "people_velocities": record.people_velocities,
-        "people_radii": record.people_radii, "target": record.target, "walls": record.walls,
+        "times": times,
+        "robot_poses": record.robot_poses,
+        "robot_twists": record.robot_twists,
+        "people_positions": record.people_positions,
+        "people_velocities": record.people_velocities,
+        "people_radii": record.people_radii,
+        "target": record.target,
+        "walls": record.walls,
     }
     for name, arr in arrays.items():
         if not np.all(np.isfinite(arr)):
@@ -175,8 +189,9 @@ def _prepare_path(path: Path, overwrite: bool) -> None:
                 "(pass overwrite=True to replace an existing bag)"
             )
         entries = list(path.iterdir()) if path.is_dir() and not path.is_symlink() else None
-        if entries is None or any(not e.is_file() or e.suffix not in _BAG_SUFFIXES
-                                  for e in entries):
+        if entries is None or any(
+            not e.is_file() or e.suffix not in _BAG_SUFFIXES for e in entries
+        ):
             raise FileExistsError(
                 f"refusing to overwrite {path}: it is not a rosbag2 folder "
                 "(only .mcap/.db3/.yaml files are deleted)"
@@ -213,32 +228,57 @@ class _Messages:
 
     def quaternion(self, q: FloatArray) -> Any:
         return self.t["geometry_msgs/msg/Quaternion"](
-            x=float(q[0]), y=float(q[1]), z=float(q[2]), w=float(q[3]))
+            x=float(q[0]), y=float(q[1]), z=float(q[2]), w=float(q[3])
+        )
 
     def pose(self, x: float, y: float, q: FloatArray, z: float = 0.0) -> Any:
-        return self.t["geometry_msgs/msg/Pose"](position=self.point(x, y, z),
-                                                orientation=self.quaternion(q))
+        return self.t["geometry_msgs/msg/Pose"](
+            position=self.point(x, y, z), orientation=self.quaternion(q)
+        )
 
     def twist(self, cmd: FloatArray) -> Any:
-        return self.t["geometry_msgs/msg/Twist"](linear=self.vector3(cmd[0], cmd[1], 0.0),
-                                                 angular=self.vector3(0.0, 0.0, cmd[2]))
+        return self.t["geometry_msgs/msg/Twist"](
+            linear=self.vector3(cmd[0], cmd[1], 0.0), angular=self.vector3(0.0, 0.0, cmd[2])
+        )
 
     def color(self, r: float, g: float, b: float, a: float) -> Any:
         return self.t["std_msgs/msg/ColorRGBA"](r=r, g=g, b=b, a=a)
 
-    def marker(self, header: Any, ns: str, mid: int, kind: str, pose: Any, scale: Any,
-               color: Any, points: list[Any] | None = None) -> Any:
+    def marker(
+        self,
+        header: Any,
+        ns: str,
+        mid: int,
+        kind: str,
+        pose: Any,
+        scale: Any,
+        color: Any,
+        points: list[Any] | None = None,
+    ) -> Any:
         marker_cls = self.t["visualization_msgs/msg/Marker"]
         return marker_cls(
-            header=header, ns=ns, id=int(mid), type=getattr(marker_cls, kind),
-            action=marker_cls.ADD, pose=pose, scale=scale, color=color,
-            lifetime=self.zero_duration, frame_locked=False, points=points or [], colors=[],
+            header=header,
+            ns=ns,
+            id=int(mid),
+            type=getattr(marker_cls, kind),
+            action=marker_cls.ADD,
+            pose=pose,
+            scale=scale,
+            color=color,
+            lifetime=self.zero_duration,
+            frame_locked=False,
+            points=points or [],
+            colors=[],
             texture_resource="",
             texture=self.t["sensor_msgs/msg/CompressedImage"](
-                header=header, format="", data=np.zeros(0, dtype=np.uint8)),
-            uv_coordinates=[], text="", mesh_resource="",
+                header=header, format="", data=np.zeros(0, dtype=np.uint8)
+            ),
+            uv_coordinates=[],
+            text="",
+            mesh_resource="",
             mesh_file=self.t["visualization_msgs/msg/MeshFile"](
-                filename="", data=np.zeros(0, dtype=np.uint8)),
+                filename="", data=np.zeros(0, dtype=np.uint8)
+            ),
             mesh_use_embedded_materials=False,
         )
 
@@ -280,10 +320,19 @@ def export_rosbag(
     marker_ids = pids.tolist() if np.issubdtype(pids.dtype, np.integer) else list(range(pids.size))
     status = [str(s) for s in np.asarray(record.status).tolist()]
     zero_cov = np.zeros(36)
-    latched = [rb.Qos(
-        rb.QosHistory.KEEP_LAST, 1, rb.QosReliability.RELIABLE, rb.QosDurability.TRANSIENT_LOCAL,
-        rb.QosTime(0, 0), rb.QosTime(0, 0), rb.QosLiveliness.AUTOMATIC, rb.QosTime(0, 0), False,
-    )]
+    latched = [
+        rb.Qos(
+            rb.QosHistory.KEEP_LAST,
+            1,
+            rb.QosReliability.RELIABLE,
+            rb.QosDurability.TRANSIENT_LOCAL,
+            rb.QosTime(0, 0),
+            rb.QosTime(0, 0),
+            rb.QosLiveliness.AUTOMATIC,
+            rb.QosTime(0, 0),
+            False,
+        )
+    ]
     plugin = rb.StoragePlugin.MCAP if storage == "mcap" else rb.StoragePlugin.SQLITE3
     t = m.t
 
@@ -295,7 +344,9 @@ def export_rosbag(
     with writer:
         conns = {
             topic: writer.add_connection(
-                topic, msgtype, typestore=store,
+                topic,
+                msgtype,
+                typestore=store,
                 offered_qos_profiles=latched if topic in _LATCHED else (),
             )
             for topic, msgtype in TOPICS.items()
@@ -311,51 +362,114 @@ def export_rosbag(
         wall_markers = []
         walls = np.asarray(record.walls, dtype=float).reshape(-1, 2, 2)
         if walls.shape[0]:
-            wall_markers.append(m.marker(
-                h0, "walls", 0, "LINE_LIST", identity, m.vector3(WALL_WIDTH, 0.0, 0.0),
-                m.color(0.3, 0.3, 0.3, 1.0), [m.point(x, y) for x, y in walls.reshape(-1, 2)],
-            ))
+            wall_markers.append(
+                m.marker(
+                    h0,
+                    "walls",
+                    0,
+                    "LINE_LIST",
+                    identity,
+                    m.vector3(WALL_WIDTH, 0.0, 0.0),
+                    m.color(0.3, 0.3, 0.3, 1.0),
+                    [m.point(x, y) for x, y in walls.reshape(-1, 2)],
+                )
+            )
         for i, poly in enumerate(record.obstacles):
             ring = np.vstack([poly, poly[:1]])  # close the outline
-            wall_markers.append(m.marker(
-                h0, "obstacles", i, "LINE_STRIP", identity, m.vector3(WALL_WIDTH, 0.0, 0.0),
-                m.color(0.3, 0.3, 0.3, 1.0), [m.point(x, y) for x, y in ring],
-            ))
+            wall_markers.append(
+                m.marker(
+                    h0,
+                    "obstacles",
+                    i,
+                    "LINE_STRIP",
+                    identity,
+                    m.vector3(WALL_WIDTH, 0.0, 0.0),
+                    m.color(0.3, 0.3, 0.3, 1.0),
+                    [m.point(x, y) for x, y in ring],
+                )
+            )
         write("/walls", t0, t["visualization_msgs/msg/MarkerArray"](markers=wall_markers))
         target = np.asarray(record.target, dtype=float)
-        write("/social_goal", t0, t["geometry_msgs/msg/PoseStamped"](
-            header=h0, pose=m.pose(target[0], target[1], _yaw_quaternions(target[2:3])[0])))
+        write(
+            "/social_goal",
+            t0,
+            t["geometry_msgs/msg/PoseStamped"](
+                header=h0, pose=m.pose(target[0], target[1], _yaw_quaternions(target[2:3])[0])
+            ),
+        )
 
         for k, ns in enumerate(stamps.tolist()):
             header = m.header(ns, frame_id)
             x, y = poses[k, 0], poses[k, 1]
             transform = t["geometry_msgs/msg/Transform"](
-                translation=m.vector3(x, y, 0.0), rotation=m.quaternion(quats[k]))
-            write("/tf", ns, t["tf2_msgs/msg/TFMessage"](transforms=[
-                t["geometry_msgs/msg/TransformStamped"](
-                    header=header, child_frame_id=base_frame, transform=transform)]))
-            write("/odom", ns, t["nav_msgs/msg/Odometry"](
-                header=header, child_frame_id=base_frame,
-                pose=t["geometry_msgs/msg/PoseWithCovariance"](
-                    pose=m.pose(x, y, quats[k]), covariance=zero_cov),
-                twist=t["geometry_msgs/msg/TwistWithCovariance"](
-                    twist=m.twist(twists[k]), covariance=zero_cov)))
+                translation=m.vector3(x, y, 0.0), rotation=m.quaternion(quats[k])
+            )
+            write(
+                "/tf",
+                ns,
+                t["tf2_msgs/msg/TFMessage"](
+                    transforms=[
+                        t["geometry_msgs/msg/TransformStamped"](
+                            header=header, child_frame_id=base_frame, transform=transform
+                        )
+                    ]
+                ),
+            )
+            write(
+                "/odom",
+                ns,
+                t["nav_msgs/msg/Odometry"](
+                    header=header,
+                    child_frame_id=base_frame,
+                    pose=t["geometry_msgs/msg/PoseWithCovariance"](
+                        pose=m.pose(x, y, quats[k]), covariance=zero_cov
+                    ),
+                    twist=t["geometry_msgs/msg/TwistWithCovariance"](
+                        twist=m.twist(twists[k]), covariance=zero_cov
+                    ),
+                ),
+            )
             write("/cmd_vel", ns, m.twist(twists[k]))
-            write("/people", ns, t["people_msgs/msg/People"](header=header, people=[
-                t["people_msgs/msg/Person"](
-                    name=ids[j], position=m.point(*people_xy[k, j]),
-                    velocity=m.point(*people_v[k, j]), reliability=1.0,
-                    tagnames=["radius"], tags=[repr(float(radii[j]))])
-                for j in range(len(ids))
-            ]))
-            write("/people_markers", ns, t["visualization_msgs/msg/MarkerArray"](markers=[
-                m.marker(header, "people", marker_ids[j], "CYLINDER",
-                         m.pose(*people_xy[k, j], np.array([0.0, 0.0, 0.0, 1.0]),
-                                z=0.5 * PERSON_HEIGHT),
-                         m.vector3(2 * radii[j], 2 * radii[j], PERSON_HEIGHT),
-                         m.color(0.2, 0.4, 0.9, 0.7))
-                for j in range(len(ids))
-            ]))
+            write(
+                "/people",
+                ns,
+                t["people_msgs/msg/People"](
+                    header=header,
+                    people=[
+                        t["people_msgs/msg/Person"](
+                            name=ids[j],
+                            position=m.point(*people_xy[k, j]),
+                            velocity=m.point(*people_v[k, j]),
+                            reliability=1.0,
+                            tagnames=["radius"],
+                            tags=[repr(float(radii[j]))],
+                        )
+                        for j in range(len(ids))
+                    ],
+                ),
+            )
+            write(
+                "/people_markers",
+                ns,
+                t["visualization_msgs/msg/MarkerArray"](
+                    markers=[
+                        m.marker(
+                            header,
+                            "people",
+                            marker_ids[j],
+                            "CYLINDER",
+                            m.pose(
+                                *people_xy[k, j],
+                                np.array([0.0, 0.0, 0.0, 1.0]),
+                                z=0.5 * PERSON_HEIGHT,
+                            ),
+                            m.vector3(2 * radii[j], 2 * radii[j], PERSON_HEIGHT),
+                            m.color(0.2, 0.4, 0.9, 0.7),
+                        )
+                        for j in range(len(ids))
+                    ]
+                ),
+            )
             write("/planner_status", ns, t["std_msgs/msg/String"](data=status[k]))
     return path
 

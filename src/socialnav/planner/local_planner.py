@@ -107,11 +107,19 @@ class LocalPlannerParams:
         except ValueError as exc:
             raise ConfigurationError(str(exc)) from None
         if self.rollout_dtype not in ("float64", "float32"):
-            raise ConfigurationError(f"rollout_dtype must be float64 or float32, "
-                                     f"got {self.rollout_dtype!r}")
-        for name in ("xy_goal_tolerance", "yaw_goal_tolerance", "path_distance_bias",
-                     "goal_distance_bias", "occdist_scale", "heading_scale",
-                     "oscillation_reset_dist", "oscillation_reset_angle"):
+            raise ConfigurationError(
+                f"rollout_dtype must be float64 or float32, got {self.rollout_dtype!r}"
+            )
+        for name in (
+            "xy_goal_tolerance",
+            "yaw_goal_tolerance",
+            "path_distance_bias",
+            "goal_distance_bias",
+            "occdist_scale",
+            "heading_scale",
+            "oscillation_reset_dist",
+            "oscillation_reset_angle",
+        ):
             value = getattr(self, name)
             if not (np.isfinite(value) and value >= 0):
                 raise ConfigurationError(f"{name} must be finite and >= 0, got {value}")
@@ -133,8 +141,9 @@ def traditional_objectives(params: LocalPlannerParams | None = None) -> tuple[Ob
     )
 
 
-def traditional_planner(robot: RobotModel, params: LocalPlannerParams | None = None
-                        ) -> LocalPlanner:
+def traditional_planner(
+    robot: RobotModel, params: LocalPlannerParams | None = None
+) -> LocalPlanner:
     """The ROS planner: one navigation objective selected by a weighted sum."""
     from socialnav.moo.selection import WeightedSum
 
@@ -251,11 +260,13 @@ class LocalPlanner:
         start = time.perf_counter()
         problem = _valid_inputs(ctx)
         if problem:
-            return self._result(ctx, _zero(), PlannerStatus.INVALID_INPUT, problem, record, None,
-                                start)
+            return self._result(
+                ctx, _zero(), PlannerStatus.INVALID_INPUT, problem, record, None, start
+            )
         if ctx.global_path.shape[0] == 0:
-            return self._result(ctx, _zero(), PlannerStatus.NO_PATH, "empty global plan",
-                                record, None, start)
+            return self._result(
+                ctx, _zero(), PlannerStatus.NO_PATH, "empty global plan", record, None, start
+            )
         cycle = _Cycle()
         self._track_goal(ctx.goal)
         xy_tol, yaw_tol = self._tolerances(ctx)
@@ -270,8 +281,9 @@ class LocalPlanner:
         try:
             status, cmd, msg, chosen = self._sample_and_select(ctx, cycle)
         except CriticUnavailable as exc:
-            return self._result(ctx, _zero(), PlannerStatus.CRITIC_UNAVAILABLE, str(exc),
-                                record, cycle, start)
+            return self._result(
+                ctx, _zero(), PlannerStatus.CRITIC_UNAVAILABLE, str(exc), record, cycle, start
+            )
         return self._result(ctx, cmd, status, msg, record, cycle, start, chosen)
 
     # ---- stages ---------------------------------------------------------------------------
@@ -291,8 +303,9 @@ class LocalPlanner:
             yaw = float(getattr(sg, "yaw_tolerance", yaw))
         return xy, yaw
 
-    def _at_goal(self, ctx: PlanningContext, yaw_tol: float, cycle: _Cycle
-                 ) -> tuple[PlannerStatus, FloatArray, str]:
+    def _at_goal(
+        self, ctx: PlanningContext, yaw_tol: float, cycle: _Cycle
+    ) -> tuple[PlannerStatus, FloatArray, str]:
         p, r = self.params, self.robot
         err = float(wrap_angle(ctx.goal[2] - ctx.pose[2]))
         if abs(err) <= yaw_tol:
@@ -323,8 +336,9 @@ class LocalPlanner:
             return PlannerStatus.NO_LEGAL_TRAJECTORY, _zero(), why
         return PlannerStatus.ROTATING_TO_GOAL, cmd, ""
 
-    def _sample_and_select(self, ctx: PlanningContext, cycle: _Cycle
-                           ) -> tuple[PlannerStatus, FloatArray, str, object]:
+    def _sample_and_select(
+        self, ctx: PlanningContext, cycle: _Cycle
+    ) -> tuple[PlannerStatus, FloatArray, str, object]:
         p, t = self.params, cycle.timing
         t0 = time.perf_counter()
         twists = sample_twists(self.robot, ctx.velocity, p)
@@ -335,8 +349,9 @@ class LocalPlanner:
             return PlannerStatus.NO_LEGAL_TRAJECTORY, _zero(), "no velocity samples", None
         reach = float(np.hypot(twists[:, 0], twists[:, 1]).max()) * p.sim_time
         ctx.extras.setdefault("reach", reach + 2.0 * ctx.costmap.resolution)
-        trajs = rollout(ctx.pose, ctx.velocity, twists, self.robot, p,
-                        dtype=np.dtype(p.rollout_dtype).type)
+        trajs = rollout(
+            ctx.pose, ctx.velocity, twists, self.robot, p, dtype=np.dtype(p.rollout_dtype).type
+        )
         t2 = time.perf_counter()
         t["rollout"] = t2 - t1
         cycle.trajs = trajs
@@ -387,8 +402,11 @@ class LocalPlanner:
             status=status.value,
             message=message,
             twists=cycle.twists if cycle and cycle.twists is not None else np.zeros((0, 3)),
-            end_poses=(cycle.trajs.end_poses.astype(float) if cycle and cycle.trajs is not None
-                       else np.zeros((0, 3))),
+            end_poses=(
+                cycle.trajs.end_poses.astype(float)
+                if cycle and cycle.trajs is not None
+                else np.zeros((0, 3))
+            ),
             F=ev.F if ev else np.zeros((0, len(self.objectives))),
             objective_names=tuple(o.name for o in self.objectives),
             legal=ev.legal if ev else np.zeros(0, dtype=bool),

@@ -98,31 +98,44 @@ class Navigator:
         self.last_plan_status = ""
 
     # ---- public ---------------------------------------------------------------------------
-    def step(self, time: float, pose: ArrayLike, velocity: ArrayLike, social: SocialContext
-             ) -> PlannerResult:
+    def step(
+        self, time: float, pose: ArrayLike, velocity: ArrayLike, social: SocialContext
+    ) -> PlannerResult:
         try:
             return self._step(float(time), pose, velocity, social)
         except Exception as exc:  # the control loop must survive anything
-            return PlannerResult(np.zeros(3), PlannerStatus.INVALID_INPUT, None,
-                                 f"{type(exc).__name__}: {exc}")
+            return PlannerResult(
+                np.zeros(3), PlannerStatus.INVALID_INPUT, None, f"{type(exc).__name__}: {exc}"
+            )
 
     # ---- internals ------------------------------------------------------------------------
-    def _step(self, time: float, pose_in: ArrayLike, vel_in: ArrayLike, social: SocialContext
-              ) -> PlannerResult:
+    def _step(
+        self, time: float, pose_in: ArrayLike, vel_in: ArrayLike, social: SocialContext
+    ) -> PlannerResult:
         pose = np.asarray(pose_in, dtype=float)
         velocity = np.asarray(vel_in, dtype=float)
-        if (pose.shape != (3,) or velocity.shape != (3,) or not np.isfinite(time)
-                or not np.all(np.isfinite(pose)) or not np.all(np.isfinite(velocity))):
-            return PlannerResult(np.zeros(3), PlannerStatus.INVALID_INPUT, None,
-                                 "pose, velocity and time must be finite; pose/velocity (3,)")
+        if (
+            pose.shape != (3,)
+            or velocity.shape != (3,)
+            or not np.isfinite(time)
+            or not np.all(np.isfinite(pose))
+            or not np.all(np.isfinite(velocity))
+        ):
+            return PlannerResult(
+                np.zeros(3),
+                PlannerStatus.INVALID_INPUT,
+                None,
+                "pose, velocity and time must be finite; pose/velocity (3,)",
+            )
         social_goal = self._social_goal(social, pose)
         target = self._target(social_goal, pose)
         if target is self.goal:
             social_goal = None  # a passed waypoint no longer pulls the robot back
         path = self._global_path(time, pose, target, social)
         if path is None:
-            return PlannerResult(np.zeros(3), PlannerStatus.NO_PATH, None,
-                                 f"global planner: {self.last_plan_status}")
+            return PlannerResult(
+                np.zeros(3), PlannerStatus.NO_PATH, None, f"global planner: {self.last_plan_status}"
+            )
         local = crop(self.costmap, pose[:2], self.window_size)
         local = self._with_people(local, social)
         if self.costmap_layer is not None:
@@ -153,8 +166,7 @@ class Navigator:
         if not getattr(sg, "is_waypoint", False):
             return sg_pose
         tol = max(float(getattr(sg, "position_tolerance", 0.0)), 0.1)
-        if any(np.hypot(*(sg_pose[:2] - w[:2])) <= max(tol, 0.3)
-               for w in self._passed_waypoints):
+        if any(np.hypot(*(sg_pose[:2] - w[:2])) <= max(tol, 0.3) for w in self._passed_waypoints):
             return self.goal
         if np.hypot(*(sg_pose[:2] - pose[:2])) <= tol:
             self._passed_waypoints.append(sg_pose)
@@ -168,8 +180,9 @@ class Navigator:
         discs = np.column_stack([social.positions(), social.radii()])
         return add_obstacle_discs(costmap, discs, self.robot.inscribed_radius)
 
-    def _global_path(self, time: float, pose: FloatArray, target: FloatArray,
-                     social: SocialContext) -> FloatArray | None:
+    def _global_path(
+        self, time: float, pose: FloatArray, target: FloatArray, social: SocialContext
+    ) -> FloatArray | None:
         changed = self._path_target is None or (
             np.hypot(*(target[:2] - self._path_target[:2])) > 0.05
             or abs(float(wrap_angle(target[2] - self._path_target[2]))) > 0.05

@@ -74,8 +74,9 @@ def critic_keys(objectives: Sequence[Objective]) -> dict[Critic, str]:
     return keys
 
 
-def prepare(objectives: Sequence[Objective], ctx: PlanningContext,
-            timing: dict[str, float] | None = None) -> None:
+def prepare(
+    objectives: Sequence[Objective], ctx: PlanningContext, timing: dict[str, float] | None = None
+) -> None:
     """Run every distinct critic's ``prepare`` once; propagates ``CriticUnavailable``."""
     for critic, key in critic_keys(objectives).items():
         start = time.perf_counter()

@@ -48,8 +48,15 @@ class RecoveryParams:
     max_recoveries: int = 5
 
     def __post_init__(self) -> None:
-        for name in ("backup_speed", "backup_distance", "clearance_range", "rotate_tolerance",
-                     "max_rotate_time", "progress_radius", "progress_time"):
+        for name in (
+            "backup_speed",
+            "backup_distance",
+            "clearance_range",
+            "rotate_tolerance",
+            "max_rotate_time",
+            "progress_radius",
+            "progress_time",
+        ):
             if not (np.isfinite(getattr(self, name)) and getattr(self, name) > 0):
                 raise ValueError(f"{name} must be positive")
         if self.num_headings < 1 or self.max_recoveries < 1:
@@ -60,9 +67,10 @@ def clearance(ctx: PlanningContext, headings: FloatArray, max_range: float) -> F
     """Free distance (m) along rays ``(H,)`` world headings from the robot, up to ``max_range``."""
     res = ctx.costmap.resolution
     d = np.arange(1, int(np.ceil(max_range / res)) + 1) * res  # (R,)
-    pts = ctx.pose[:2] + d[None, :, None] * np.stack([np.cos(headings), np.sin(headings)], 1)[
-        :, None, :
-    ]
+    pts = (
+        ctx.pose[:2]
+        + d[None, :, None] * np.stack([np.cos(headings), np.sin(headings)], 1)[:, None, :]
+    )
     blocked = ctx.costmap.cost_at(pts) >= INSCRIBED  # (H, R); off-map reads LETHAL
     first = np.where(blocked.any(axis=1), blocked.argmax(axis=1), d.size)
     return np.where(first > 0, d[np.maximum(first - 1, 0)], 0.0)
@@ -103,14 +111,17 @@ class RecoveringPlanner:
             self._goal = goal.copy()
             self._stuck, self._phase, self._recoveries = False, None, 0
             self._anchor = None
-        if self._anchor is None or np.hypot(*(pose[:2] - self._anchor[:2])) >= \
-                self.params.progress_radius:
+        if (
+            self._anchor is None
+            or np.hypot(*(pose[:2] - self._anchor[:2])) >= self.params.progress_radius
+        ):
             self._anchor, self._anchor_time = pose.copy(), float(ctx.time)
         if self._stuck:
             return PlannerResult(np.zeros(3), PlannerStatus.STUCK, None, "stuck (latched)")
         if float(ctx.time) - self._anchor_time > self.params.progress_time:
-            return self._give_up(f"no {self.params.progress_radius} m progress in "
-                                 f"{self.params.progress_time} s")
+            return self._give_up(
+                f"no {self.params.progress_radius} m progress in {self.params.progress_time} s"
+            )
         if self._phase is not None:
             cmd = self._recovery_cmd(ctx)
             if cmd is not None:
@@ -130,8 +141,9 @@ class RecoveringPlanner:
         cmd = self._recovery_cmd(ctx)
         if cmd is None:
             cmd = np.zeros(3)
-        return PlannerResult(cmd, PlannerStatus.RECOVERING, result.record,
-                             f"recovery after: {result.message}")
+        return PlannerResult(
+            cmd, PlannerStatus.RECOVERING, result.record, f"recovery after: {result.message}"
+        )
 
     def _give_up(self, why: str) -> PlannerResult:
         self._stuck, self._phase = True, None

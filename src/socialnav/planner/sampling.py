@@ -81,20 +81,26 @@ def sample_twists(robot: RobotModel, velocity: FloatArray, params: SamplingConfi
     robot whose limits allow any motion (``N == 0`` only if every sample is below the minima)."""
     dt = params.controller_period
     vx = axis_samples(
-        float(velocity[0]), robot.min_vel_x, robot.max_vel_x, robot.acc_lim_x, dt,
+        float(velocity[0]),
+        robot.min_vel_x,
+        robot.max_vel_x,
+        robot.acc_lim_x,
+        dt,
         params.vx_samples,
     )
     if robot.holonomic:
         vy = axis_samples(
-            float(velocity[1]), -robot.max_vel_y, robot.max_vel_y, robot.acc_lim_y, dt,
+            float(velocity[1]),
+            -robot.max_vel_y,
+            robot.max_vel_y,
+            robot.acc_lim_y,
+            dt,
             params.vy_samples,
         )
     else:
         vy = np.zeros(1)
     wmax = robot.max_vel_theta
-    vth = axis_samples(
-        float(velocity[2]), -wmax, wmax, robot.acc_lim_theta, dt, params.vth_samples
-    )
+    vth = axis_samples(float(velocity[2]), -wmax, wmax, robot.acc_lim_theta, dt, params.vth_samples)
     gx, gy, gw = np.meshgrid(vx, vy, vth, indexing="ij")
     twists = np.stack([gx.ravel(), gy.ravel(), gw.ravel()], axis=1)
 

@@ -66,9 +66,14 @@ class GoToGoalController:
     drive turns in place while the goal is more than ``turn_in_place`` rad off its heading.
     """
 
-    def __init__(self, gain: float = 1.0, angular_gain: float = 2.0,
-                 xy_tolerance: float = 0.1, yaw_tolerance: float = 0.1,
-                 turn_in_place: float = 0.5) -> None:
+    def __init__(
+        self,
+        gain: float = 1.0,
+        angular_gain: float = 2.0,
+        xy_tolerance: float = 0.1,
+        yaw_tolerance: float = 0.1,
+        turn_in_place: float = 0.5,
+    ) -> None:
         self.gain = gain
         self.angular_gain = angular_gain
         self.xy_tolerance = xy_tolerance
@@ -81,8 +86,9 @@ class GoToGoalController:
         self.goal = np.asarray(scenario.goal, dtype=float)
         self.robot = robot
 
-    def step(self, time: float, pose: FloatArray, velocity: FloatArray,
-             social: SocialContext) -> ControlOutput:
+    def step(
+        self, time: float, pose: FloatArray, velocity: FloatArray, social: SocialContext
+    ) -> ControlOutput:
         assert self.robot is not None, "reset() first"
         delta = self.goal[:2] - pose[:2]
         dist = float(np.hypot(*delta))
@@ -98,10 +104,13 @@ class GoToGoalController:
         if self.robot.holonomic:
             # Straight at the goal, scaled into the (vx, vy) box keeping the direction.
             v = body / dist * min(speed, self.robot.max_vel_x)
-            limits = (self.robot.max_vel_x if v[0] >= 0 else -self.robot.min_vel_x,
-                      self.robot.max_vel_y)
-            scale = min([1.0] + [lim / abs(c) for lim, c in zip(limits, v, strict=True)
-                                 if abs(c) > 1e-12])
+            limits = (
+                self.robot.max_vel_x if v[0] >= 0 else -self.robot.min_vel_x,
+                self.robot.max_vel_y,
+            )
+            scale = min(
+                [1.0] + [lim / abs(c) for lim, c in zip(limits, v, strict=True) if abs(c) > 1e-12]
+            )
             v = v * max(scale, 0.0)
             return ControlOutput(np.array([v[0], v[1], self.angular_gain * heading_err]))
         if abs(heading_err) > self.turn_in_place:

@@ -97,8 +97,7 @@ class ControllerBehavior(core.Behavior):
         out = self.controller.step(time, pose_of(self), self.last_cmd.copy(), social)
         cmd = clamp_to_robot(out.cmd, self.robot_model)
         self.last_output, self.last_cmd = out, cmd
-        return core.Twist2((float(cmd[0]), float(cmd[1])), float(cmd[2]),
-                           frame=core.Frame.relative)
+        return core.Twist2((float(cmd[0]), float(cmd[1])), float(cmd[2]), frame=core.Frame.relative)
 
 
 @dataclass

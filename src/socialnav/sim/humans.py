@@ -50,8 +50,9 @@ class ScriptedHuman(core.Behavior):
         return core.Twist2((float(v[0]), float(v[1])), 0.0, frame=core.Frame.absolute)
 
 
-def make_person_agent(person: PersonSpec, humans: str = "scripted",
-                      reactive_behavior: str = "HL") -> sim.Agent:
+def make_person_agent(
+    person: PersonSpec, humans: str = "scripted", reactive_behavior: str = "HL"
+) -> sim.Agent:
     """A navground agent for one person (disc of the person's radius, omnidirectional)."""
     start = np.asarray(person.position, dtype=float)
     velocity = person.initial_velocity()
@@ -66,8 +67,13 @@ def make_person_agent(person: PersonSpec, humans: str = "scripted",
             behavior.length = person.behavior.length(person.position)
         # Kinematic limits well above the scripted speed: navground must never rescale it.
         kinematics = core.kinematics.OmnidirectionalKinematics(2.0 * speed + 0.1, 1.0)
-        agent = sim.Agent(radius=person.radius, behavior=behavior, kinematics=kinematics,
-                          control_period=0.0, id=person.id)
+        agent = sim.Agent(
+            radius=person.radius,
+            behavior=behavior,
+            kinematics=kinematics,
+            control_period=0.0,
+            id=person.id,
+        )
     elif humans == "reactive":
         if reactive_behavior not in REACTIVE_BEHAVIORS:
             raise ConfigurationError(
@@ -84,17 +90,23 @@ def make_person_agent(person: PersonSpec, humans: str = "scripted",
         behavior.optimal_speed = cruise
         behavior.max_speed = cruise
         behavior.radius = person.radius
-        task = sim.tasks.WaypointsTask(waypoints=[np.asarray(goal, dtype=float)], loop=False,
-                                       tolerance=0.1)
+        task = sim.tasks.WaypointsTask(
+            waypoints=[np.asarray(goal, dtype=float)], loop=False, tolerance=0.1
+        )
         agent = sim.Agent(
-            radius=person.radius, behavior=behavior, kinematics=kinematics, task=task,
+            radius=person.radius,
+            behavior=behavior,
+            kinematics=kinematics,
+            task=task,
             state_estimations=[sim.state_estimations.BoundedStateEstimation(range=SENSING_RANGE)],
-            control_period=0.0, id=person.id,
+            control_period=0.0,
+            id=person.id,
         )
     else:
         raise ConfigurationError(f"humans must be 'scripted' or 'reactive', got {humans!r}")
     agent.pose = core.Pose2((float(start[0]), float(start[1])), person.heading)
-    agent.twist = core.Twist2((float(velocity[0]), float(velocity[1])), 0.0,
-                              frame=core.Frame.absolute)
+    agent.twist = core.Twist2(
+        (float(velocity[0]), float(velocity[1])), 0.0, frame=core.Frame.absolute
+    )
     agent.type = "human"
     return agent

@@ -70,18 +70,23 @@ class StaticGeometry:
         object.__setattr__(self, "_seg_a", np.concatenate(starts).reshape(-1, 2))
         object.__setattr__(self, "_seg_b", np.concatenate(ends).reshape(-1, 2))
 
-    def collides(self, footprint_world: FloatArray, center: FloatArray | None = None,
-                 radius: float = np.inf) -> bool:
+    def collides(
+        self, footprint_world: FloatArray, center: FloatArray | None = None, radius: float = np.inf
+    ) -> bool:
         """Whether the world-frame footprint polygon ``(V, 2)`` touches any static obstacle.
 
         ``center``/``radius``: a disc containing the footprint, for a cheap early "no".
         """
         if center is not None and np.isfinite(radius):
-            near = len(self._seg_a) and point_segment_distance(
-                center, self._seg_a, self._seg_b).min() <= radius
+            near = (
+                len(self._seg_a)
+                and point_segment_distance(center, self._seg_a, self._seg_b).min() <= radius
+            )
             inside = any(points_in_polygon(center, p) for p in self.polygons)
-            disc_near = len(self.discs) and (
-                np.hypot(*(self.discs[:, :2] - center).T) <= radius + self.discs[:, 2]).any()
+            disc_near = (
+                len(self.discs)
+                and (np.hypot(*(self.discs[:, :2] - center).T) <= radius + self.discs[:, 2]).any()
+            )
             if not (near or inside or disc_near):
                 return False
         fa, fb = polygon_edges(footprint_world)
@@ -112,8 +117,13 @@ def person_collisions(
 class EpisodeRecorder:
     """Accumulates samples, then builds an :class:`EpisodeRecord`."""
 
-    def __init__(self, footprint: FloatArray, people_ids: np.ndarray, people_radii: FloatArray,
-                 static: StaticGeometry) -> None:
+    def __init__(
+        self,
+        footprint: FloatArray,
+        people_ids: np.ndarray,
+        people_radii: FloatArray,
+        static: StaticGeometry,
+    ) -> None:
         self.footprint = np.asarray(footprint, dtype=float)
         self.radius = float(np.linalg.norm(self.footprint, axis=1).max())
         self.people_ids = np.asarray(people_ids)
@@ -128,8 +138,15 @@ class EpisodeRecorder:
         self.hit_obstacle: list[bool] = []
         self.status: list[str] = []
 
-    def add(self, time: float, pose: FloatArray, cmd: FloatArray, people_pos: FloatArray,
-            people_vel: FloatArray, status: str) -> None:
+    def add(
+        self,
+        time: float,
+        pose: FloatArray,
+        cmd: FloatArray,
+        people_pos: FloatArray,
+        people_vel: FloatArray,
+        status: str,
+    ) -> None:
         """One sample: the state at ``time`` and the body command applied after it."""
         fp = body_to_world(self.footprint, pose)
         self.times.append(time)
@@ -164,8 +181,9 @@ class EpisodeRecorder:
         )
 
 
-def context_at(base: SocialContext, positions: FloatArray, velocities: FloatArray,
-               yaws: FloatArray) -> SocialContext:
+def context_at(
+    base: SocialContext, positions: FloatArray, velocities: FloatArray, yaws: FloatArray
+) -> SocialContext:
     """``base`` with its people moved to ``positions (K, 2)``/``velocities (K, 2)``/``yaws (K,)``
     (same order as ``base.people``)."""
     from socialnav.core.scene import Person

@@ -72,8 +72,11 @@ def resolve_target(scenario: Scenario, social: SocialContext) -> Target:
     sg = resolve_social_goal(social, goal, start)
     if sg is None:
         return Target(goal, None, {"social_goal": None})
-    meta = {"social_goal": sg.kind, "social_goal_fallback": sg.fallback,
-            "social_goal_reason": sg.reason}
+    meta = {
+        "social_goal": sg.kind,
+        "social_goal_fallback": sg.fallback,
+        "social_goal_reason": sg.reason,
+    }
     pose = np.asarray(sg.pose, dtype=float)
     if sg.is_waypoint:
         return Target(goal, pose[:2].copy(), meta)
@@ -129,10 +132,19 @@ def run_episode(
     if baseline:
         waypoints = [] if target.waypoint is None else [target.waypoint]
         waypoints.append(target.pose[:2])
-        behavior, task = make_baseline(controller, model, waypoints, float(target.pose[2]),
-                                       tolerance=0.5 * scn.goal_tolerance)
-        simw = build_world(scn, model, behavior, humans, reactive_behavior, robot_task=task,
-                           sensing=True, seed=seed)
+        behavior, task = make_baseline(
+            controller, model, waypoints, float(target.pose[2]), tolerance=0.5 * scn.goal_tolerance
+        )
+        simw = build_world(
+            scn,
+            model,
+            behavior,
+            humans,
+            reactive_behavior,
+            robot_task=task,
+            sensing=True,
+            seed=seed,
+        )
         planner_name = controller
         ctrl_behavior = None
     else:
@@ -144,8 +156,12 @@ def run_episode(
         simw = build_world(scn, model, ctrl_behavior, humans, reactive_behavior, seed=seed)
 
     static = StaticGeometry(scn.walls_array(), tuple(scn.obstacle_polygons()), scn.discs_array())
-    recorder = EpisodeRecorder(model.polygon, simw.people_ids,
-                               np.array([p.radius for p in scn.people], dtype=float), static)
+    recorder = EpisodeRecorder(
+        model.polygon,
+        simw.people_ids,
+        np.array([p.radius for p in scn.people], dtype=float),
+        static,
+    )
     diagnostics: list[Any] = []
     dt = float(scn.control_period)
     last = round(scn.time_limit / dt)
@@ -168,8 +184,9 @@ def run_episode(
             done = bool(simw.robot.task.done())
             simw.world.update(dt)
             last_cmd = simw.robot.get_last_cmd(core.Frame.relative)
-            cmd = np.array([last_cmd.velocity[0], last_cmd.velocity[1],
-                            last_cmd.angular_speed], dtype=float)
+            cmd = np.array(
+                [last_cmd.velocity[0], last_cmd.velocity[1], last_cmd.angular_speed], dtype=float
+            )
             status = GOAL_REACHED if done else "OK"
             if record_diagnostics:
                 diagnostics.append(None)

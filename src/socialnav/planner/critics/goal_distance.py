@@ -42,9 +42,7 @@ class GoalDistanceCritic(Critic):
             ctx.extras["local_plan_cells"] = cells
         if cells.shape[0] == 0:
             raise CriticUnavailable("no global plan cell inside the local costmap")
-        ctx.extras["goal_distance_grid"] = grid_graph(ctx).distance(
-            cells[-1:], settle_region(ctx)
-        )
+        ctx.extras["goal_distance_grid"] = grid_graph(ctx).distance(cells[-1:], settle_region(ctx))
 
     def score(self, trajs: Trajectories, ctx: PlanningContext) -> CriticScore:
         if "goal_distance_grid" not in ctx.extras:

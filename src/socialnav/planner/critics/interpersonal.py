@@ -54,8 +54,9 @@ def footprint_radius(ctx: PlanningContext, which: str) -> float:
     return ctx.robot.inscribed_radius if which == "inscribed" else ctx.robot.circumscribed_radius
 
 
-def min_squared_distances(trajs: Trajectories, ctx: PlanningContext, reach: FloatArray
-                          ) -> FloatArray:
+def min_squared_distances(
+    trajs: Trajectories, ctx: PlanningContext, reach: FloatArray
+) -> FloatArray:
     """``(N, K)`` min over rollout time of the squared distance between each trajectory point
     and each person forecast to that time (``ctx.people_at(trajs.t)``).
 

@@ -153,8 +153,7 @@ def _prepare_outline(ctx: PlanningContext) -> None:
     pad = math.ceil(float(rho.max(initial=0.0))) + 2
     costs = ctx.costmap.costs
     # LETHAL (254) → 1, UNKNOWN (255) → 2, anything lower → 0
-    codes = np.pad(np.maximum(costs, INSCRIBED) - np.uint8(INSCRIBED), pad,
-                   constant_values=_UNSEEN)
+    codes = np.pad(np.maximum(costs, INSCRIBED) - np.uint8(INSCRIBED), pad, constant_values=_UNSEEN)
     ctx.extras["occupancy_codes"] = (codes, pad)
 
 
