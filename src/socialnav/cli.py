@@ -17,6 +17,28 @@ app = typer.Typer(
 ROBOT_HELP = "Robot model: pr2 (holonomic) or pioneer (differential drive)."
 
 
+def _version(value: bool) -> None:
+    if value:
+        from socialnav import __version__
+
+        typer.echo(f"socialnav {__version__}")
+        raise typer.Exit()
+
+
+@app.callback()
+def main(
+    version: Annotated[
+        bool,
+        typer.Option("--version", callback=_version, is_eager=True, help="Print the version."),
+    ] = False,
+) -> None:
+    """Socially-aware navigation with PaCcET: run scenarios, compare planners, make reports."""
+
+
+def _warn(message: str) -> None:
+    typer.secho(f"warning: {message}", fg=typer.colors.YELLOW, err=True)
+
+
 def _fail(message: str) -> None:
     typer.secho(f"error: {message}", fg=typer.colors.RED, err=True)
     raise typer.Exit(code=2)
@@ -65,11 +87,19 @@ def compare(
     seeds: Annotated[int | None, typer.Option(help="Seeds per scenario (randomized: 20).")] = None,
     jobs: Annotated[int, typer.Option(help="Parallel workers; -1 = all cores.")] = -1,
     resume: Annotated[bool, typer.Option(help="Skip runs already in the report folder.")] = True,
+    backend: Annotated[
+        str, typer.Option(help="Where episodes run: local (process pool), dask or ray.")
+    ] = "local",
+    address: Annotated[
+        str | None,
+        typer.Option(help="Join a running cluster: Dask scheduler tcp://HOST:8786, Ray auto."),
+    ] = None,
 ) -> None:
     """The main job: every scenario × planner × robot, into a Markdown/HTML report with figures."""
     from rich.progress import BarColumn, MofNCompleteColumn, Progress, TimeElapsedColumn
 
     from socialnav.core.errors import ConfigurationError
+    from socialnav.experiments.backends import check_backend
     from socialnav.experiments.planners import PLANNERS
     from socialnav.experiments.run import check_robot
     from socialnav.experiments.suite import run_suite, suite_specs
@@ -79,6 +109,7 @@ def compare(
     if suite not in ("paper", "reactive", "randomized"):
         _fail(f"unknown suite {suite!r}; use paper, reactive or randomized")
     try:
+        check_backend(backend, address)
         planner_names = _split(planners) or PLANNERS.names()
         for name in planner_names:
             PLANNERS.get(name)
@@ -103,10 +134,47 @@ def compare(
         def advance(done: int, total: int) -> None:
             bar.update(task, completed=done, total=total)
 
-        rows = run_suite(specs, out, n_jobs=jobs, resume=resume, progress=advance)
+        rows = run_suite(
+            specs,
+            out,
+            n_jobs=jobs,
+            resume=resume,
+            progress=advance,
+            suite=suite,
+            backend=backend,
+            address=address,
+            notify=_warn,
+        )
     report = build_report(rows, out, suite=suite)
     failed = sum(1 for r in rows if r.get("error"))
     typer.echo(f"{len(rows)} runs ({failed} errors) → {report}")
+
+
+@app.command()
+def report(
+    results_dir: Annotated[Path, typer.Argument(help="A folder `socialnav compare` wrote.")],
+    suite: Annotated[
+        str | None, typer.Option(help="Which suite's rows (default: the only one stored).")
+    ] = None,
+) -> None:
+    """Rebuild report.md and report.html from the results already stored in RESULTS_DIR."""
+    from socialnav.experiments.results import load_results, suites_in
+    from socialnav.report.build import build_report
+
+    rows = load_results(results_dir, notify=_warn)
+    present = suites_in(rows)
+    if not present:
+        _fail(f"{results_dir}: no results found (expected {results_dir / 'results'})")
+    if suite is None:
+        if len(present) > 1:
+            _fail(f"{results_dir} holds suites {', '.join(present)}; choose one with --suite")
+        suite = present[0]
+    elif suite not in present:
+        _fail(f"{results_dir} has no rows of suite {suite!r}; it has {', '.join(present)}")
+    selected = [r for r in rows if r["suite"] == suite]
+    path = build_report(selected, results_dir, suite=suite)
+    failed = sum(1 for r in selected if r.get("error"))
+    typer.echo(f"{len(selected)} runs ({failed} errors) → {path}")
 
 
 @app.command()

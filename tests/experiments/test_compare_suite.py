@@ -2,17 +2,18 @@
 
 from __future__ import annotations
 
+import base64
 import re
 from pathlib import Path
 
 import numpy as np
-import pyarrow.parquet as pq
 import pytest
 from typer.testing import CliRunner
 
 from shared import TABLE1_KEYS, html_tables, md_tables
 from socialnav.cli import app
-from socialnav.experiments.suite import RESULTS_FILE, EpisodeSpec, run_suite, suite_specs
+from socialnav.experiments.results import load_results
+from socialnav.experiments.suite import EpisodeSpec, run_suite, suite_specs
 
 ARGS = [
     "compare",
@@ -43,7 +44,7 @@ def report_dir(tmp_path_factory) -> Path:
 
 
 def results(out: Path) -> list[dict]:
-    return pq.read_table(out / RESULTS_FILE).to_pylist()
+    return load_results(out)
 
 
 def same(a: object, b: object) -> bool:
@@ -59,25 +60,26 @@ def table1(out: Path) -> list[list[str]]:
     return md_tables(section)[0]
 
 
-# --- results.parquet ------------------------------------------------------------------------------
+# --- the results dataset --------------------------------------------------------------------------
 
 
 def test_results_has_one_row_per_run_with_metrics_and_conditions(report_dir: Path) -> None:
     rows = results(report_dir)
     assert [r["run_id"] for r in rows] == RUN_IDS
-    assert [r["error"] for r in rows] == ["", ""]
+    assert [r["error"] for r in rows] == [None, None]
     for row in rows:
         assert row["scenario"] == "hallway_passing" and row["robot"] == "pr2"
-        assert row["seed"] == 0 and row["family"] == "hallway"
+        assert row["seed"] == 0 and row["family"] == "hallway" and row["suite"] == "paper"
         for key in TABLE1_KEYS:
-            assert f"metric.{key}" in row
-        assert {"ok.reached_goal", "ok.no_collision", "ok.success"} <= set(row)
-        assert all(isinstance(row[k], bool) for k in row if k.startswith("ok."))
-        assert row["ok.reached_goal"] and row["ok.no_collision"]
-        assert np.isfinite(row["metric.total_distance"]) and row["steps"] > 10
+            assert key in row
+        assert {"ok_reached_goal", "ok_no_collision", "success", "psc_1_2"} <= set(row)
+        assert "ok_success" not in row  # stored once, as the metric ``success``
+        assert all(isinstance(row[k], bool) for k in row if k.startswith("ok_"))
+        assert row["ok_reached_goal"] and row["ok_no_collision"]
+        assert np.isfinite(row["total_distance"]) and row["steps"] > 10
         assert (report_dir / "runs" / row["run_id"] / "trajectory.parquet").exists()
     by_planner = {r["planner"]: r for r in rows}
-    assert by_planner["paccet"]["ok.success"] and not by_planner["traditional"]["ok.success"]
+    assert by_planner["paccet"]["success"] == 1.0 and by_planner["traditional"]["success"] == 0
 
 
 # --- the report -----------------------------------------------------------------------------------
@@ -95,7 +97,7 @@ def test_report_has_table1_with_the_papers_values_and_ours(report_dir: Path) -> 
         ours = rows[row["planner"]]
         assert ours[0] == "1"
         for cell, key in zip(ours[1:], TABLE1_KEYS, strict=True):
-            value = row[f"metric.{key}"]
+            value = row[key]
             expected = str(int(value)) if key == "proxemic_intrusions" else f"{value:.2f}"
             assert cell == expected, key
 
@@ -110,14 +112,23 @@ def test_report_markdown_and_html_show_the_same_tables(report_dir: Path) -> None
 
 def test_figures_referenced_by_the_report_exist(report_dir: Path) -> None:
     md = re.findall(r"!\[[^\]]*\]\(([^)]+)\)", (report_dir / "report.md").read_text())
-    page = re.findall(r"<img src='([^']+)'", (report_dir / "report.html").read_text())
-    assert md == page
     assert "figures/hallway_passing__pr2.png" in md
     assert "figures/tradeoff.png" in md
     for ref in md:
         path = report_dir / ref
         assert path.is_file() and path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n", ref
     assert "## Errors" not in (report_dir / "report.md").read_text()
+
+
+def test_report_html_is_one_self_contained_file(report_dir: Path) -> None:
+    page = (report_dir / "report.html").read_text()
+    sources = re.findall(r"<img src='([^']+)'", page)
+    md = re.findall(r"!\[[^\]]*\]\(([^)]+)\)", (report_dir / "report.md").read_text())
+    assert len(sources) == len(md) >= 2
+    for source, ref in zip(sources, md, strict=True):
+        assert source.startswith("data:image/png;base64,")
+        assert base64.b64decode(source.split(",", 1)[1]) == (report_dir / ref).read_bytes()
+    assert not re.search(r"(src|href)='(?!data:)", page)  # nothing else to fetch
 
 
 # --- resume and workers ---------------------------------------------------------------------------
@@ -150,5 +161,5 @@ def test_results_do_not_depend_on_the_number_of_workers(report_dir: Path, tmp_pa
     assert [r["run_id"] for r in parallel] == RUN_IDS
     for a, b in zip(parallel, serial, strict=True):
         for key in a:
-            if key.startswith(("metric.", "ok.")) or key in ("steps", "error"):
+            if key not in ("wall_time_s", "planner_ms_median"):
                 assert same(a[key], b[key]), key

@@ -1,8 +1,11 @@
 """Suites of episodes: which runs make up a comparison, and running them in parallel.
 
 ``run_spec`` is a pure, picklable function of an :class:`EpisodeSpec`; seeds are fixed in the spec,
-so results never depend on the number of workers. A failed episode becomes a row with its error,
-never the end of the suite. ``run_suite`` resumes: rows already in ``results.parquet`` are skipped.
+so results never depend on the number of workers or on the backend (``local``, ``dask``, ``ray``,
+see :mod:`socialnav.experiments.backends`). A failed episode becomes a row with its error, never
+the end of the suite. ``run_suite`` stores each finished episode at once in the results dataset
+(:mod:`socialnav.experiments.results`) and resumes: episodes already stored without error are
+skipped, so a killed suite loses only the episodes in flight.
 """
 
 from __future__ import annotations
@@ -15,13 +18,9 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-import pyarrow as pa
-import pyarrow.parquet as pq
 
-RESULTS_FILE = "results.parquet"
 TABLE1_SCENARIO = "hallway_passing"
 TABLE1_SEEDS = (0, 1, 2, 3, 4)
-CHECKPOINT_EVERY = 25
 
 
 @dataclass(frozen=True)
@@ -82,8 +81,14 @@ def suite_specs(
 def run_spec(
     spec: EpisodeSpec, out_dir: Path | None = None, figure: bool = False
 ) -> dict[str, Any]:
-    """Run one episode; return its result row (metrics, success conditions, timing, error)."""
-    row: dict[str, Any] = {**asdict(spec), "run_id": spec.run_id, "error": ""}
+    """Run one episode; return its result row (metrics, success conditions, timing, error).
+
+    Column names are those of the results dataset (:mod:`socialnav.experiments.results`);
+    ``error`` is None when the episode ran.
+    """
+    from socialnav.experiments.results import condition_column, metric_column
+
+    row: dict[str, Any] = {**asdict(spec), "run_id": spec.run_id, "error": None}
     started = time.perf_counter()
     try:
         from socialnav.experiments.planners import run_planner_episode
@@ -92,8 +97,10 @@ def run_spec(
 
         result = run_planner_episode(spec)
         record = result.record
-        row.update({f"metric.{k}": float(v) for k, v in compute_metrics(record).items()})
-        row.update({f"ok.{k}": bool(v) for k, v in evaluate_success(record).items()})
+        row.update({metric_column(k): float(v) for k, v in compute_metrics(record).items()})
+        # overall success is the metric ``success``: stored once
+        conditions = {k: v for k, v in evaluate_success(record).items() if k != "success"}
+        row.update({condition_column(k): bool(v) for k, v in conditions.items()})
         row["family"] = record.family
         row["steps"] = record.num_steps
         row["planner_ms_median"] = float(record.meta.get("planner_ms_median", np.nan))
@@ -111,19 +118,6 @@ def run_spec(
     return row
 
 
-def _done_ids(out_dir: Path) -> set[str]:
-    path = out_dir / RESULTS_FILE
-    if not path.exists():
-        return set()
-    table = pq.read_table(path, columns=["run_id", "error"])
-    ok = [
-        r
-        for r, e in zip(table["run_id"].to_pylist(), table["error"].to_pylist(), strict=True)
-        if not e
-    ]
-    return set(ok)
-
-
 def run_suite(
     specs: Sequence[EpisodeSpec],
     out_dir: Path,
@@ -131,38 +125,42 @@ def run_suite(
     figures: bool = False,
     resume: bool = True,
     progress: Callable[[int, int], None] | None = None,
+    *,
+    suite: str = "paper",
+    backend: str = "local",
+    address: str | None = None,
+    notify: Callable[[str], None] | None = None,
 ) -> list[dict[str, Any]]:
-    """Run ``specs`` on all cores (joblib/loky) into ``out_dir``; returns every row, old and new."""
-    from joblib import Parallel, delayed
+    """Run ``specs`` on ``backend`` into ``out_dir``; returns the rows of ``specs``, old and new.
+
+    Rows are stored under ``out_dir/results`` partitioned by ``suite``, planner and robot, each
+    the moment its episode finishes. ``resume=False`` runs every spec again (the new rows replace
+    the stored ones). ``notify`` receives one line per damaged file found and recovered from.
+    """
+    from socialnav.experiments.backends import map_unordered
+    from socialnav.experiments.results import ResultStore
 
     out_dir.mkdir(parents=True, exist_ok=True)
-    previous: list[dict[str, Any]] = []
-    done = _done_ids(out_dir) if resume else set()
-    if done:
-        previous = [
-            r for r in pq.read_table(out_dir / RESULTS_FILE).to_pylist() if r["run_id"] in done
-        ]
+    store = ResultStore(out_dir, notify)
+    store.compact()  # fragments a killed run left become part of the dataset
+    stored = {r["run_id"]: r for r in store.load() if r["suite"] == suite}
+    done = {k for k, r in stored.items() if r.get("error") is None} if resume else set()
     todo = [s for s in specs if s.run_id not in done]
-    rows: list[dict[str, Any]] = []
-    total = len(todo)
+    total, finished = len(todo), 0
     if progress:
         progress(0, total)
-    runner = Parallel(n_jobs=n_jobs, return_as="generator_unordered", backend="loky")
-    for row in runner(delayed(run_spec)(s, out_dir, figures) for s in todo):
-        rows.append(row)
+    new: dict[str, dict[str, Any]] = {}
+    results = map_unordered(
+        run_spec, todo, backend=backend, n_jobs=n_jobs, address=address, args=(out_dir, figures)
+    )
+    for row in results:
+        row["suite"] = suite
+        store.append(row)  # durable now: a kill from here on does not lose this episode
+        new[row["run_id"]] = row
+        finished += 1
         if progress:
-            progress(len(rows), total)
-        if len(rows) % CHECKPOINT_EVERY == 0:  # an interrupted suite resumes from here
-            write_rows(sorted(previous + rows, key=lambda r: r["run_id"]), out_dir / RESULTS_FILE)
-    wanted = {s.run_id for s in specs}
-    all_rows = [r for r in previous if r["run_id"] in wanted] + rows
-    all_rows.sort(key=lambda r: r["run_id"])
-    write_rows(all_rows, out_dir / RESULTS_FILE)
-    return all_rows
-
-
-def write_rows(rows: Sequence[dict[str, Any]], path: Path) -> None:
-    """One Parquet row per episode; columns are the union of every row's keys."""
-    keys = sorted({k for r in rows for k in r})
-    columns = {k: [r.get(k) for r in rows] for k in keys}
-    pq.write_table(pa.table(columns), path)
+            progress(finished, total)
+    store.compact()
+    rows = [new.get(s.run_id) or stored[s.run_id] for s in specs]
+    unique = {r["run_id"]: r for r in rows}
+    return [unique[k] for k in sorted(unique)]

@@ -14,6 +14,7 @@ from typing import Any
 
 import numpy as np
 
+from socialnav.experiments.results import CONDITION_PREFIX, metric_column
 from socialnav.report.document import (
     Document,
     Heading,
@@ -74,8 +75,13 @@ PREFERRED_ORDER = [
 
 
 def _metric(row: dict[str, Any], name: str) -> float:
-    value = row.get(f"metric.{name}")
+    value = row.get(metric_column(name))
     return math.nan if value is None else float(value)
+
+
+def _passed(row: dict[str, Any]) -> bool:
+    """Every required success condition held (the metric ``success`` is 1)."""
+    return _metric(row, "success") == 1.0
 
 
 def _mean(values: Sequence[float]) -> float:
@@ -186,7 +192,7 @@ def success_section(
         line: list[Any] = [planner]
         for fam in families:
             sel = [r for r in ok_rows if r["planner"] == planner and r.get("family") == fam]
-            n, k = len(sel), sum(bool(r.get("ok.success")) for r in sel)
+            n, k = len(sel), sum(_passed(r) for r in sel)
             if not n:
                 line.append("–")
             elif n > 5:
@@ -195,7 +201,7 @@ def success_section(
             else:
                 line.append(f"{k}/{n}")
         sel = [r for r in ok_rows if r["planner"] == planner]
-        line.append(f"{sum(bool(r.get('ok.success')) for r in sel)}/{len(sel)}")
+        line.append(f"{sum(_passed(r) for r in sel)}/{len(sel)}")
         table_rows.append(line)
     doc.add(Table(["planner", *families, "all"], table_rows, caption=f"suite: {suite}"))
     doc.add(Paragraph(beaten_statement(ok_rows, planners, families)))
@@ -210,7 +216,7 @@ def beaten_statement(
 
     def rate(planner: str, fam: str) -> float:
         sel = [r for r in rows if r["planner"] == planner and r.get("family") == fam]
-        return sum(bool(r.get("ok.success")) for r in sel) / len(sel) if sel else math.nan
+        return sum(_passed(r) for r in sel) / len(sel) if sel else math.nan
 
     notes = []
     for fam in families:
@@ -242,13 +248,13 @@ def scenario_section(
                     continue
                 failed = sorted(
                     {
-                        k.removeprefix("ok.")
+                        k.removeprefix(CONDITION_PREFIX)
                         for r in sel
                         for k, v in r.items()
-                        if k.startswith("ok.") and k != "ok.success" and v is False
+                        if k.startswith(CONDITION_PREFIX) and v is False
                     }
                 )
-                passed = sum(bool(r.get("ok.success")) for r in sel)
+                passed = sum(_passed(r) for r in sel)
                 table_rows.append(
                     [
                         robot,
@@ -312,7 +318,7 @@ def tradeoff_section(
         social = _mean([_metric(r, "psc_1.2") for r in sel])
         overhead = _mean([_metric(r, "path_length_ratio") for r in sel])
         time_to_goal = _mean([_metric(r, "time_to_goal") for r in sel])
-        success = sum(bool(r.get("ok.success")) for r in sel) / len(sel)
+        success = sum(_passed(r) for r in sel) / len(sel)
         ms = _mean([float(r.get("planner_ms_median") or math.nan) for r in sel])
         # SPL counts a run that never arrives as 0, so stalling cannot look efficient.
         spl = _mean([_metric(r, "spl") for r in sel])
@@ -397,5 +403,5 @@ def build_report(rows: Sequence[dict[str, Any]], out_dir: Path, suite: str = "pa
             )
         )
     (out_dir / "report.md").write_text(to_markdown(doc))
-    (out_dir / "report.html").write_text(to_html(doc))
+    (out_dir / "report.html").write_text(to_html(doc, embed_from=out_dir))
     return out_dir / "report.md"

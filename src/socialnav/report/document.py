@@ -2,9 +2,12 @@
 
 from __future__ import annotations
 
+import base64
 import html
 import math
+import mimetypes
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Any
 
 
@@ -88,7 +91,16 @@ def _inline(text: str) -> str:
     return "".join(f"<code>{p}</code>" if i % 2 else p for i, p in enumerate(parts))
 
 
-def to_html(doc: Document) -> str:
+def data_uri(path: Path) -> str:
+    """The file as a ``data:`` URI (base64), so the page that shows it needs no other file."""
+    kind = mimetypes.guess_type(path.name)[0] or "application/octet-stream"
+    return f"data:{kind};base64," + base64.b64encode(path.read_bytes()).decode("ascii")
+
+
+def to_html(doc: Document, embed_from: Path | None = None) -> str:
+    """The document as one HTML page; with ``embed_from``, images (paths relative to that folder)
+    are embedded as data URIs, so the page is a single file that can be mailed as it is. An image
+    file that is missing stays a relative link."""
     style = (
         "body{font-family:system-ui,sans-serif;max-width:1100px;margin:2em auto;padding:0 1em}"
         "table{border-collapse:collapse;margin:1em 0;font-size:14px}"
@@ -116,8 +128,11 @@ def to_html(doc: Document) -> str:
                 out.append("<tr>" + "".join(f"<td>{_inline(cell(v))}</td>" for v in row) + "</tr>")
             out.append("</table>")
         else:
+            source = b.path
+            if embed_from is not None and (embed_from / b.path).is_file():
+                source = data_uri(embed_from / b.path)
             out.append(
-                f"<p><img src='{html.escape(b.path)}' alt='{html.escape(b.alt)}' "
+                f"<p><img src='{html.escape(source)}' alt='{html.escape(b.alt)}' "
                 f"width='{b.width}'></p>"
             )
     out.append("</body></html>")
