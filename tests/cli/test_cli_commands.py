@@ -145,7 +145,7 @@ def test_unknown_names_fail_with_did_you_mean(
     message = result.stderr
     assert repr(bad) in message
     assert f"Did you mean {good!r}?" in message
-    assert not (out / "results.parquet").exists()  # failed before running anything
+    assert not (out / "results").exists()  # failed before running anything
     assert not (out / "trajectory.parquet").exists()
 
 

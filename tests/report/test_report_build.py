@@ -91,7 +91,7 @@ def rows_with_passes(passes: dict[tuple[str, str], tuple[int, int]]) -> list[dic
     """``{(planner, family): (passed, runs)}`` as result rows."""
     rows = []
     for (planner, family), (k, n) in passes.items():
-        rows += [{"planner": planner, "family": family, "ok.success": i < k} for i in range(n)]
+        rows += [{"planner": planner, "family": family, "success": float(i < k)} for i in range(n)]
     return rows
 
 
@@ -155,18 +155,18 @@ def table1_rows(lateral: float, distance: float, time: float, intrusions: int) -
                     "robot": "pr2",
                     "seed": seed,
                     "family": "hallway",
-                    "error": "",
-                    "ok.success": planner == "paccet",
-                    "ok.reached_goal": True,
-                    "metric.lateral_distance": values[0],
-                    "metric.total_distance": values[1],
-                    "metric.time_to_goal": values[2],
-                    "metric.proxemic_intrusions": float(values[3]),
-                    "metric.deviation_distance": math.nan,
-                    "metric.psc_1.2": 1.0,
-                    "metric.path_length_ratio": values[1] / 5.0,
-                    "metric.min_distance_center": values[0],
-                    "metric.path_length": values[1],
+                    "error": None,
+                    "success": float(planner == "paccet"),
+                    "ok_reached_goal": True,
+                    "lateral_distance": values[0],
+                    "total_distance": values[1],
+                    "time_to_goal": values[2],
+                    "proxemic_intrusions": float(values[3]),
+                    "deviation_distance": math.nan,
+                    "psc_1_2": 1.0,
+                    "path_length_ratio": values[1] / 5.0,
+                    "min_distance_center": values[0],
+                    "path_length": values[1],
                     "planner_ms_median": 5.0,
                 }
             )
