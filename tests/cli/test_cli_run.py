@@ -26,7 +26,7 @@ from socialnav.metrics import compute_metrics
 SCENARIO = "hallway_passing"
 START = (0.5, -0.45, 0.0)  # hallway_passing.yaml
 GOAL = (5.5, -0.45)
-ROBOT_COLUMNS = ("t", "robot_x", "robot_y", "robot_yaw", "robot_vx", "robot_vy", "robot_wz")
+LONG_COLUMNS = ("step", "t", "agent", "agent_id", "x", "y", "heading", "vx", "vy", "wz")
 
 
 def invoke(*args: str):
@@ -54,8 +54,30 @@ def csv_run(tmp_path_factory) -> tuple[Path, dict]:
 
 
 def columns(path: Path) -> dict[str, np.ndarray]:
+    """The long step table pivoted per agent, as a reader would: ``robot_x``, ``person_1_x``, …
+    (robot velocities back in the body frame of the command, like the diagnostics)."""
+    if path.name.startswith("diagnostics"):
+        table = pq.read_table(path)
+        return {n: table.column(n).to_numpy(zero_copy_only=False) for n in table.column_names}
     table = pq.read_table(path) if path.suffix == ".parquet" else pacsv.read_csv(path)
-    return {n: table.column(n).to_numpy(zero_copy_only=False) for n in table.column_names}
+    raw = {n: table.column(n).to_numpy(zero_copy_only=False) for n in table.column_names}
+    robot = raw["agent"] == "robot"
+    yaw, vx, vy = raw["heading"][robot], raw["vx"][robot], raw["vy"][robot]
+    col = {
+        "t": raw["t"][robot],
+        "robot_x": raw["x"][robot],
+        "robot_y": raw["y"][robot],
+        "robot_yaw": yaw,
+        "robot_vx": np.cos(yaw) * vx + np.sin(yaw) * vy,
+        "robot_vy": -np.sin(yaw) * vx + np.cos(yaw) * vy,
+        "robot_wz": raw["wz"][robot],
+        **{k: raw[k][robot] for k in ("status", "collision_person", "collision_obstacle")},
+    }
+    for pid in sorted(set(raw["agent_id"][~robot])):
+        rows = (~robot) & (raw["agent_id"] == pid)
+        for key in ("x", "y", "vx", "vy", "heading"):
+            col[f"person_{pid}_{key}"] = raw[key][rows]
+    return col
 
 
 # --- the step table -------------------------------------------------------------------------------
@@ -70,11 +92,16 @@ def test_summary_names_the_run(paccet_run) -> None:
     assert summary["steps"] > 10
 
 
-def test_trajectory_has_one_row_per_step_and_the_documented_columns(paccet_run) -> None:
+def test_trajectory_has_one_row_per_agent_and_step_and_the_documented_columns(paccet_run) -> None:
     out, summary = paccet_run
+    table = pq.read_table(out / "trajectory.parquet")
+    assert set(LONG_COLUMNS) | {"status", "collision_person", "collision_obstacle"} <= set(
+        table.column_names
+    )
+    assert table.num_rows == 2 * summary["steps"]  # the robot and one person, every step
     col = columns(out / "trajectory.parquet")
-    assert set(ROBOT_COLUMNS) | {"status", "collision_person", "collision_obstacle"} <= set(col)
-    assert {"person_1_x", "person_1_y", "person_1_vx", "person_1_vy"} <= set(col)
+    assert {"person_1_x", "person_1_y", "person_1_vx", "person_1_vy", "person_1_heading"} <= set(col)
+    np.testing.assert_allclose(col["person_1_heading"], np.pi, atol=1e-6)  # walks -x
     assert len(col["t"]) == summary["steps"]
     np.testing.assert_allclose(col["t"], 0.1 * np.arange(summary["steps"]), atol=1e-9)
 
@@ -231,7 +258,7 @@ def test_format_csv_writes_a_csv_step_table(csv_run) -> None:
     out, summary = csv_run
     assert not (out / "trajectory.parquet").exists()
     header = (out / "trajectory.csv").read_text().splitlines()[0]
-    assert header.replace('"', "").split(",")[:3] == ["t", "robot_x", "robot_y"]
+    assert header.replace('"', "").split(",")[:4] == ["step", "t", "agent", "agent_id"]
     col = columns(out / "trajectory.csv")
     assert len(col["t"]) == summary["steps"]
     np.testing.assert_allclose([col["robot_x"][0], col["robot_y"][0]], START[:2], atol=1e-9)

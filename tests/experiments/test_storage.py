@@ -111,6 +111,9 @@ def assert_records_equal(a: EpisodeRecord, b: EpisodeRecord) -> None:
             assert len(x) == len(y)
             for p, q in zip(x, y, strict=True):
                 np.testing.assert_array_equal(p, q)
+        elif f.name == "robot_twists":
+            # stored in the world frame like every agent's velocity: rotated there and back
+            np.testing.assert_allclose(x, y, rtol=0, atol=1e-12, err_msg=f.name)
         elif isinstance(x, np.ndarray):
             assert isinstance(y, np.ndarray), f.name
             assert x.shape == y.shape, f.name
@@ -143,17 +146,69 @@ def test_the_context_keeps_every_social_structure(tmp_path: Path) -> None:
     assert loaded.context.person(20).radius == pytest.approx(0.24)
 
 
-def test_trajectory_columns_are_wide_per_person(tmp_path: Path) -> None:
+def test_trajectory_is_a_long_table_one_row_per_agent_and_step(tmp_path: Path) -> None:
     record = rich_record(steps=9)
     save_episode(record, tmp_path)
     table = pq.read_table(tmp_path / TRAJECTORY_FILE)
-    assert table.num_rows == 9
-    assert table.column_names[:3] == ["t", "robot_x", "robot_y"]
-    for k, pid in enumerate(record.people_ids):
-        np.testing.assert_array_equal(
-            table.column(f"person_{pid}_vy").to_numpy(), record.people_velocities[:, k, 1]
-        )
+    assert table.num_rows == 9 * (1 + 5)
+    assert table.column_names[:6] == ["step", "t", "agent", "agent_id", "x", "y"]
+    assert {"heading", "vx", "vy", "wz", "status"} <= set(table.column_names)
+    rows = table.to_pylist()
+    assert [(r["agent"], r["agent_id"]) for r in rows[:6]] == [
+        ("robot", 0),
+        *[("person", int(i)) for i in record.people_ids],
+    ]
+    for r in rows:
+        if r["agent"] == "person":
+            k = list(record.people_ids).index(r["agent_id"])
+            assert r["vy"] == record.people_velocities[r["step"], k, 1]
+            assert r["heading"] == record.people_headings[r["step"], k]
+            assert r["wz"] is None and r["status"] is None and r["collision_person"] is None
+        else:
+            yaw = record.robot_poses[r["step"], 2]
+            speed = np.hypot(*record.robot_twists[r["step"], :2])
+            assert r["heading"] == yaw and np.hypot(r["vx"], r["vy"]) == pytest.approx(speed)
+            assert r["status"] == record.status[r["step"]]
     assert trajectory_table(record).equals(table)
+
+
+def test_people_present_for_part_of_an_episode_have_rows_only_while_present(
+    tmp_path: Path,
+) -> None:
+    record = rich_record(steps=10)
+    absent = np.zeros((10, 5), dtype=bool)
+    absent[:3, 1] = True  # person 7 appears at step 3
+    absent[6:, 4] = True  # person 20 leaves after step 5
+    record.people_positions[absent] = np.nan
+    record.people_velocities[absent] = np.nan
+    record.people_headings[absent] = np.nan
+    table = trajectory_table(record)
+    seen = [(r["step"], r["agent_id"]) for r in table.to_pylist() if r["agent"] == "person"]
+    assert len(seen) == 10 * 5 - 3 - 4
+    assert (0, 7) not in seen and (3, 7) in seen and (5, 20) in seen and (6, 20) not in seen
+    for fmt in ("parquet", "csv"):
+        loaded = load_episode(save_episode(record, tmp_path / fmt, fmt=fmt))
+        np.testing.assert_array_equal(np.isnan(loaded.people_positions[..., 0]), absent)
+        assert_records_equal(record, loaded)
+
+
+def test_people_headings_default_to_the_direction_of_motion() -> None:
+    record = empty_hallway()
+    v = np.zeros((4, 1, 2))
+    v[1:3, 0] = (0.0, 1.0)
+    record = EpisodeRecord(
+        **{
+            **{f.name: getattr(empty_hallway(4), f.name) for f in fields(EpisodeRecord)},
+            "people_ids": np.array([1]),
+            "people_positions": np.zeros((4, 1, 2)),
+            "people_velocities": v,
+            "people_radii": np.array([0.25]),
+            "people_headings": None,
+            "context": SocialContext(people=(Person(1, (0.0, 0.0), yaw=0.5),)),
+        }
+    )
+    # the context's yaw before the first move, then the motion, then held while standing
+    np.testing.assert_allclose(record.people_headings[:, 0], [0.5, np.pi / 2, np.pi / 2, np.pi / 2])
 
 
 def test_episode_json_is_plain_json_and_names_the_format(tmp_path: Path) -> None:

@@ -21,7 +21,10 @@ class EpisodeRecord:
       (circumscribed, m).
     People:
       ``people_ids (K,)``, ``people_positions (T, K, 2)``, ``people_velocities (T, K, 2)``,
-      ``people_radii (K,)``; ``context`` holds groups, queues and artworks at the start.
+      ``people_radii (K,)``; ``people_headings (T, K)`` (rad, world frame: the direction a person
+      faces; when not given, the direction of motion, held while a person stands still, and the
+      context's ``yaw`` before the first move); ``context`` holds groups, queues and artworks at
+      the start.
     Task:
       ``start (3,)``; ``goal (3,)`` the goal the robot was given; ``target (3,)`` the pose at which
       success is measured (the social goal where the scenario has one, else ``goal``);
@@ -60,6 +63,7 @@ class EpisodeRecord:
     collision_obstacle: np.ndarray | None = None
     status: np.ndarray | None = None
     meta: dict[str, Any] = field(default_factory=dict)
+    people_headings: FloatArray | None = None
 
     def __post_init__(self) -> None:
         steps = self.times.shape[0]
@@ -70,12 +74,15 @@ class EpisodeRecord:
         if self.status is None:
             self.status = np.full(steps, "OK", dtype=object)
         k = self.people_ids.shape[0]
+        if self.people_headings is None:
+            self.people_headings = _motion_headings(self.people_velocities, self._context_yaws())
         expected = {
             "robot_poses": (steps, 3),
             "robot_twists": (steps, 3),
             "people_positions": (steps, k, 2),
             "people_velocities": (steps, k, 2),
             "people_radii": (k,),
+            "people_headings": (steps, k),
             "collision_person": (steps,),
             "collision_obstacle": (steps,),
             "status": (steps,),
@@ -84,6 +91,10 @@ class EpisodeRecord:
             if getattr(self, name).shape != shape:
                 raise ValueError(f"{name} has shape {getattr(self, name).shape}, expected {shape}")
 
+    def _context_yaws(self) -> FloatArray:
+        yaw = {p.id: p.yaw for p in self.context.people}
+        return np.array([yaw.get(int(i), np.nan) for i in self.people_ids], dtype=float)
+
     @property
     def num_steps(self) -> int:
         return int(self.times.shape[0])
@@ -91,3 +102,20 @@ class EpisodeRecord:
     @property
     def robot_xy(self) -> FloatArray:
         return self.robot_poses[:, :2]
+
+
+MOVING_SPEED = 1e-3  # m/s: below it, a person's heading is held (atan2 of noise is meaningless)
+
+
+def _motion_headings(velocities: FloatArray, initial: FloatArray) -> FloatArray:
+    """Headings ``(T, K)`` from world velocities ``(T, K, 2)``: the direction of motion while
+    moving faster than ``MOVING_SPEED``, held while standing, ``initial (K,)`` before the first
+    move (NaN where a person is absent, i.e. their velocity is NaN)."""
+    v = np.asarray(velocities, dtype=float)
+    out = np.empty(v.shape[:2])
+    current = np.asarray(initial, dtype=float).copy()
+    for t in range(v.shape[0]):
+        moving = np.hypot(v[t, :, 0], v[t, :, 1]) > MOVING_SPEED
+        current = np.where(moving, np.arctan2(v[t, :, 1], v[t, :, 0]), current)
+        out[t] = np.where(np.isnan(v[t, :, 0]), np.nan, current)
+    return out

@@ -1,9 +1,19 @@
-"""Episode files: one row per step (Parquet or CSV) plus a JSON of what does not change.
+"""Episode files: a long step table (one row per agent and step) plus a JSON of what does not
+change.
 
-``save_episode`` writes ``trajectory.parquet`` (columns ``t, robot_x, robot_y, robot_yaw, robot_vx,
-robot_vy, robot_wz, status, collision_person, collision_obstacle, person_<id>_x, …``) and
-``episode.json``; ``load_episode`` rebuilds the :class:`EpisodeRecord` that metrics and
-pictures read.
+``save_episode`` writes ``trajectory.parquet`` (or ``.csv``) with the columns
+
+- ``step`` (int), ``t`` (s), ``agent`` (``robot`` or ``person``), ``agent_id`` (the person's id;
+  0 for the robot), ``x``, ``y`` (m, world frame), ``heading`` (rad, world frame: the robot's yaw,
+  the direction a person faces), ``vx``, ``vy`` (m/s, world frame), ``wz`` (rad/s; the robot's
+  command, null for people);
+- on robot rows only (null on person rows): ``status`` (planner status), ``collision_person``,
+  ``collision_obstacle``;
+
+sorted by step, then robot first, then person id. A person absent at a step (NaN in the record's
+``(T, K, …)`` arrays) has no row there. The robot's velocity is its body-frame command rotated
+into the world frame. ``episode.json`` holds the rest; ``load_episode`` rebuilds the
+:class:`EpisodeRecord` that metrics and pictures read (NaN where a person was absent).
 """
 
 from __future__ import annotations
@@ -23,28 +33,73 @@ from socialnav.core.scene import Artwork, Group, Person, Queue, SocialContext
 
 TRAJECTORY_FILE = "trajectory.parquet"
 EPISODE_FILE = "episode.json"
+ROBOT = "robot"
+PERSON = "person"
+TRAJECTORY_SCHEMA = pa.schema(
+    [
+        pa.field("step", pa.int64()),
+        pa.field("t", pa.float64(), metadata={"unit": "s"}),
+        pa.field("agent", pa.string()),
+        pa.field("agent_id", pa.int64()),
+        pa.field("x", pa.float64(), metadata={"unit": "m", "frame": "world"}),
+        pa.field("y", pa.float64(), metadata={"unit": "m", "frame": "world"}),
+        pa.field("heading", pa.float64(), metadata={"unit": "rad", "frame": "world"}),
+        pa.field("vx", pa.float64(), metadata={"unit": "m/s", "frame": "world"}),
+        pa.field("vy", pa.float64(), metadata={"unit": "m/s", "frame": "world"}),
+        pa.field("wz", pa.float64(), metadata={"unit": "rad/s"}),
+        pa.field("status", pa.string()),
+        pa.field("collision_person", pa.bool_()),
+        pa.field("collision_obstacle", pa.bool_()),
+    ]
+)
 
 
 def trajectory_table(record: EpisodeRecord) -> pa.Table:
-    """The per-step table of every agent: one row per step, wide columns per person."""
-    columns: dict[str, Any] = {
+    """The long step table of every agent (see the module docstring for its columns)."""
+    steps = record.num_steps
+    yaw = record.robot_poses[:, 2]
+    body = record.robot_twists
+    robot = {
+        "step": np.arange(steps),
         "t": record.times,
-        "robot_x": record.robot_poses[:, 0],
-        "robot_y": record.robot_poses[:, 1],
-        "robot_yaw": record.robot_poses[:, 2],
-        "robot_vx": record.robot_twists[:, 0],
-        "robot_vy": record.robot_twists[:, 1],
-        "robot_wz": record.robot_twists[:, 2],
-        "status": [str(s) for s in record.status],
-        "collision_person": record.collision_person,
-        "collision_obstacle": record.collision_obstacle,
+        "agent": np.full(steps, ROBOT, dtype=object),
+        "agent_id": np.zeros(steps, dtype=np.int64),
+        "x": record.robot_poses[:, 0],
+        "y": record.robot_poses[:, 1],
+        "heading": yaw,
+        "vx": np.cos(yaw) * body[:, 0] - np.sin(yaw) * body[:, 1],
+        "vy": np.sin(yaw) * body[:, 0] + np.cos(yaw) * body[:, 1],
+        "wz": body[:, 2],
     }
-    for k, pid in enumerate(record.people_ids):
-        columns[f"person_{pid}_x"] = record.people_positions[:, k, 0]
-        columns[f"person_{pid}_y"] = record.people_positions[:, k, 1]
-        columns[f"person_{pid}_vx"] = record.people_velocities[:, k, 0]
-        columns[f"person_{pid}_vy"] = record.people_velocities[:, k, 1]
-    return pa.table(columns)
+    pos, vel = record.people_positions, record.people_velocities
+    headings = np.asarray(record.people_headings, dtype=float)
+    t_idx, k_idx = np.nonzero(np.isfinite(pos).all(axis=2))  # rows only where present
+    ids = np.asarray(record.people_ids, dtype=np.int64)
+    people = {
+        "step": t_idx,
+        "t": record.times[t_idx],
+        "agent": np.full(len(t_idx), PERSON, dtype=object),
+        "agent_id": ids[k_idx],
+        "x": pos[t_idx, k_idx, 0],
+        "y": pos[t_idx, k_idx, 1],
+        "heading": headings[t_idx, k_idx],
+        "vx": vel[t_idx, k_idx, 0],
+        "vy": vel[t_idx, k_idx, 1],
+        "wz": np.full(len(t_idx), np.nan),
+    }
+    merged = {k: np.concatenate([robot[k], people[k]]) for k in robot}
+    order = np.lexsort((merged["agent_id"], merged["agent"] != ROBOT, merged["step"]))
+    columns: dict[str, Any] = {k: v[order] for k, v in merged.items()}
+    is_robot = columns["agent"] == ROBOT
+    step = columns["step"]
+    columns["wz"] = pa.array(columns["wz"], mask=~is_robot)
+    for name, values in (
+        ("status", np.asarray([str(s) for s in record.status], dtype=object)),
+        ("collision_person", np.asarray(record.collision_person, dtype=bool)),
+        ("collision_obstacle", np.asarray(record.collision_obstacle, dtype=bool)),
+    ):
+        columns[name] = pa.array(values[step], mask=~is_robot)
+    return pa.table(columns, schema=TRAJECTORY_SCHEMA)
 
 
 def _context_to_json(context: SocialContext) -> dict[str, Any]:
@@ -118,29 +173,51 @@ def load_episode(folder: Path) -> EpisodeRecord:
     """Rebuild the :class:`EpisodeRecord` written by :func:`save_episode`."""
     static = json.loads((folder / EPISODE_FILE).read_text())
     if static.get("trajectory_format", "parquet") == "csv":
-        table = pacsv.read_csv(folder / "trajectory.csv")
+        table = pacsv.read_csv(
+            folder / "trajectory.csv",
+            convert_options=pacsv.ConvertOptions(column_types=TRAJECTORY_SCHEMA),
+        )
     else:
         table = pq.read_table(folder / TRAJECTORY_FILE)
-    col = {name: table.column(name).to_numpy(zero_copy_only=False) for name in table.column_names}
+    missing = set(TRAJECTORY_SCHEMA.names) - set(table.column_names)
+    if missing:
+        raise ValueError(
+            f"{folder}: the step table lacks {sorted(missing)}; it is not a long table as "
+            "save_episode writes (one row per agent and step)"
+        )
+    col = {n: table.column(n).to_numpy(zero_copy_only=False) for n in TRAJECTORY_SCHEMA.names}
     ids = np.asarray(static["people_ids"], dtype=int)
-    steps = len(col["t"])
-    positions = np.zeros((steps, len(ids), 2))
-    velocities = np.zeros((steps, len(ids), 2))
-    for k, pid in enumerate(ids):
-        positions[:, k] = np.stack([col[f"person_{pid}_x"], col[f"person_{pid}_y"]], axis=1)
-        velocities[:, k] = np.stack([col[f"person_{pid}_vx"], col[f"person_{pid}_vy"]], axis=1)
+    robot = col["agent"] == ROBOT
+    steps = int(robot.sum())
+    yaw = col["heading"][robot].astype(float)
+    vx, vy = col["vx"][robot].astype(float), col["vy"][robot].astype(float)
+    # back to the body frame of the command (the inverse rotation of trajectory_table)
+    twists = np.stack(
+        [np.cos(yaw) * vx + np.sin(yaw) * vy, -np.sin(yaw) * vx + np.cos(yaw) * vy, col["wz"][robot]],
+        axis=1,
+    ).astype(float)
+    positions = np.full((steps, len(ids), 2), np.nan)
+    velocities = np.full((steps, len(ids), 2), np.nan)
+    headings = np.full((steps, len(ids)), np.nan)
+    person = ~robot
+    slot = {int(pid): k for k, pid in enumerate(ids)}
+    t_idx = col["step"][person].astype(int)
+    k_idx = np.array([slot[int(i)] for i in col["agent_id"][person]], dtype=int)
+    positions[t_idx, k_idx] = np.stack([col["x"][person], col["y"][person]], axis=1)
+    velocities[t_idx, k_idx] = np.stack([col["vx"][person], col["vy"][person]], axis=1)
+    headings[t_idx, k_idx] = col["heading"][person]
     arr = np.asarray
     return EpisodeRecord(
         dt=static["dt"],
-        times=arr(col["t"], dtype=float),
-        # dtype=float: CSV reads an all-integer column (a robot that never moved) as int64
-        robot_poses=np.stack([col["robot_x"], col["robot_y"], col["robot_yaw"]], 1, dtype=float),
-        robot_twists=np.stack([col["robot_vx"], col["robot_vy"], col["robot_wz"]], 1, dtype=float),
+        times=arr(col["t"][robot], dtype=float),
+        robot_poses=np.stack([col["x"][robot], col["y"][robot], yaw], 1).astype(float),
+        robot_twists=twists,
         robot_footprint=arr(static["robot_footprint"], dtype=float),
         robot_radius=static["robot_radius"],
         people_ids=ids,
         people_positions=positions,
         people_velocities=velocities,
+        people_headings=headings,
         people_radii=arr(static["people_radii"], dtype=float).reshape(len(ids)),
         start=arr(static["start"], dtype=float),
         goal=arr(static["goal"], dtype=float),
@@ -153,8 +230,8 @@ def load_episode(folder: Path) -> EpisodeRecord:
         walls=arr(static["walls"], dtype=float).reshape(-1, 2, 2),
         obstacles=tuple(arr(o, dtype=float) for o in static["obstacles"]),
         context=_context_from_json(static["context"]),
-        collision_person=arr(col["collision_person"], dtype=bool),
-        collision_obstacle=arr(col["collision_obstacle"], dtype=bool),
-        status=arr(col["status"], dtype=object),
+        collision_person=arr(col["collision_person"][robot], dtype=bool),
+        collision_obstacle=arr(col["collision_obstacle"][robot], dtype=bool),
+        status=arr(col["status"][robot], dtype=object),
         meta=static["meta"],
     )

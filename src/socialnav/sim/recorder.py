@@ -134,6 +134,7 @@ class EpisodeRecorder:
         self.twists: list[FloatArray] = []
         self.people_pos: list[FloatArray] = []
         self.people_vel: list[FloatArray] = []
+        self.people_yaw: list[FloatArray] = []
         self.hit_person: list[bool] = []
         self.hit_obstacle: list[bool] = []
         self.status: list[str] = []
@@ -146,14 +147,18 @@ class EpisodeRecorder:
         people_pos: FloatArray,
         people_vel: FloatArray,
         status: str,
+        people_yaw: FloatArray | None = None,
     ) -> None:
-        """One sample: the state at ``time`` and the body command applied after it."""
+        """One sample: the state at ``time`` and the body command applied after it; people's
+        yaws ``(K,)`` are the simulator's orientations (None: derived from their motion)."""
         fp = body_to_world(self.footprint, pose)
         self.times.append(time)
         self.poses.append(np.asarray(pose, dtype=float))
         self.twists.append(np.asarray(cmd, dtype=float))
         self.people_pos.append(np.asarray(people_pos, dtype=float).reshape(-1, 2))
         self.people_vel.append(np.asarray(people_vel, dtype=float).reshape(-1, 2))
+        if people_yaw is not None:
+            self.people_yaw.append(np.asarray(people_yaw, dtype=float).reshape(-1))
         center = np.asarray(pose[:2], dtype=float)
         gap = np.hypot(*(self.people_pos[-1] - center).T) - self.people_radii - self.radius
         near = self.people_pos[-1][gap <= 0.0]  # only people within reach of the footprint
@@ -163,6 +168,9 @@ class EpisodeRecorder:
 
     def build(self, **task: Any) -> EpisodeRecord:
         k, t = len(self.people_ids), len(self.times)
+        yaws = None
+        if len(self.people_yaw) == t:
+            yaws = np.asarray(self.people_yaw, dtype=float).reshape(t, k)
         return EpisodeRecord(
             times=np.asarray(self.times, dtype=float),
             robot_poses=np.asarray(self.poses, dtype=float).reshape(-1, 3),
@@ -175,6 +183,7 @@ class EpisodeRecorder:
             collision_person=np.asarray(self.hit_person, dtype=bool),
             collision_obstacle=np.asarray(self.hit_obstacle, dtype=bool),
             status=np.asarray(self.status, dtype=object),
+            people_headings=yaws,
             walls=self.static.walls,
             obstacles=self.static.polygons,
             **task,

@@ -190,7 +190,7 @@ def run_episode(
             status = GOAL_REACHED if done else "OK"
             if record_diagnostics:
                 diagnostics.append(None)
-        recorder.add(t, pose, cmd, pos, vel, status)
+        recorder.add(t, pose, cmd, pos, vel, status, people_yaw=yaw)
         if done:
             reason = "goal_reached"
             break
