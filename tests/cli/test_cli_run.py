@@ -100,7 +100,8 @@ def test_trajectory_has_one_row_per_agent_and_step_and_the_documented_columns(pa
     )
     assert table.num_rows == 2 * summary["steps"]  # the robot and one person, every step
     col = columns(out / "trajectory.parquet")
-    assert {"person_1_x", "person_1_y", "person_1_vx", "person_1_vy", "person_1_heading"} <= set(col)
+    person = {"person_1_x", "person_1_y", "person_1_vx", "person_1_vy", "person_1_heading"}
+    assert person <= set(col)
     np.testing.assert_allclose(col["person_1_heading"], np.pi, atol=1e-6)  # walks -x
     assert len(col["t"]) == summary["steps"]
     np.testing.assert_allclose(col["t"], 0.1 * np.arange(summary["steps"]), atol=1e-9)

@@ -136,7 +136,7 @@ def test_cli_rejects_an_unknown_backend_and_an_address_without_a_cluster(tmp_pat
 
 
 def test_a_damaged_results_file_is_reported_and_its_runs_run_again(local, tmp_path: Path) -> None:
-    out, rows = local
+    _, rows = local
     run_suite(SPECS, tmp_path, suite="randomized")
     part = tmp_path / "results" / "suite=randomized" / "planner=orca" / "robot=pr2" / PART_FILE
     part.write_bytes(part.read_bytes()[:200])  # cut short, as by a kill mid-write

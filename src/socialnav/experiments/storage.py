@@ -193,7 +193,11 @@ def load_episode(folder: Path) -> EpisodeRecord:
     vx, vy = col["vx"][robot].astype(float), col["vy"][robot].astype(float)
     # back to the body frame of the command (the inverse rotation of trajectory_table)
     twists = np.stack(
-        [np.cos(yaw) * vx + np.sin(yaw) * vy, -np.sin(yaw) * vx + np.cos(yaw) * vy, col["wz"][robot]],
+        [
+            np.cos(yaw) * vx + np.sin(yaw) * vy,
+            -np.sin(yaw) * vx + np.cos(yaw) * vy,
+            col["wz"][robot],
+        ],
         axis=1,
     ).astype(float)
     positions = np.full((steps, len(ids), 2), np.nan)

@@ -146,18 +146,17 @@ def run_suite(
     stored = {r["run_id"]: r for r in store.load() if r["suite"] == suite}
     done = {k for k, r in stored.items() if r.get("error") is None} if resume else set()
     todo = [s for s in specs if s.run_id not in done]
-    total, finished = len(todo), 0
+    total = len(todo)
     if progress:
         progress(0, total)
     new: dict[str, dict[str, Any]] = {}
     results = map_unordered(
         run_spec, todo, backend=backend, n_jobs=n_jobs, address=address, args=(out_dir, figures)
     )
-    for row in results:
+    for finished, row in enumerate(results, start=1):
         row["suite"] = suite
         store.append(row)  # durable now: a kill from here on does not lose this episode
         new[row["run_id"]] = row
-        finished += 1
         if progress:
             progress(finished, total)
     store.compact()
