@@ -115,6 +115,25 @@ def test_closest_approach_is_annotated_with_analytic_distance():
     assert any("min 0.90 m" in lab for lab in ax.get_legend_handles_labels()[1])
 
 
+def test_legend_time_is_the_time_to_goal_metric():
+    # Within the 0.3 m tolerance of x = 5 from x = 4.7 (3.7 s) on, then 3 s more of aligning:
+    # the legend gives the metric's 3.7 s, not the record's 7.0 s.
+    x = np.concatenate([np.linspace(1.0, 5.0, 41), np.full(30, 5.0)])
+    poses = np.column_stack([x, np.zeros_like(x), np.zeros_like(x)])
+    ctx = SocialContext(people=(Person(0, (3.0, 2.0)),))
+    common = {"goal": (5.0, 0.0, 0.0), "family": "hallway", "scenario": "t"}
+    rec = S.make_record(poses, S.static_people([[3.0, 2.0]], len(x)), ctx, **common)
+    from socialnav.metrics import compute_metrics
+
+    assert compute_metrics(rec, ["time_to_goal"])["time_to_goal"] == pytest.approx(3.7)
+    labels = plot_episode(rec).axes[0].get_legend_handles_labels()[1]
+    assert any("goal in 3.7 s" in lab for lab in labels)
+    assert not any("7.0 s" in lab for lab in labels)
+    stalled = S.make_record(poses[:30], S.static_people([[3.0, 2.0]], 30), ctx, **common)
+    labels = plot_episode(stalled).axes[0].get_legend_handles_labels()[1]
+    assert any("no arrival in 2.9 s" in lab for lab in labels)
+
+
 def test_given_goal_is_red_star_and_target_only_when_different():
     ax = plot_episode(S.hallway()).axes[0]  # target == goal
     (goal,) = _artists(ax, "given goal")
@@ -168,6 +187,7 @@ def _empty(rec):
         robot_twists=z((0, 3)),
         people_positions=z((0, 1, 2)),
         people_velocities=z((0, 1, 2)),
+        people_headings=None,
         collision_person=None,
         collision_obstacle=None,
         status=None,

@@ -40,12 +40,20 @@ def _planner_name(record: EpisodeRecord) -> str | None:
 
 
 def _stats_suffix(record: EpisodeRecord) -> str:
-    """`` (13.2 s, 5.04 m, min 0.87 m)``: duration, path length, closest centre distance."""
-    duration = float(record.times[-1] - record.times[0])
+    """`` (goal in 13.2 s, 5.04 m, min 0.87 m)``: the ``time_to_goal`` metric (one definition
+    of the time, the table's and the figure's), path length, closest centre distance. A run that
+    never arrives says so, with how long it lasted."""
+    from socialnav.metrics.table1 import time_to_goal
+
+    arrival = time_to_goal(record)
+    if np.isfinite(arrival):
+        when = f"goal in {arrival:.1f} s"
+    else:
+        when = f"no arrival in {float(record.times[-1] - record.times[0]):.1f} s"
     length = float(L.path_length(record.robot_xy)[-1])
     hit = L.closest_approach(record)
     near = "" if hit is None else f", min {hit[2]:.2f} m"
-    return f" ({duration:.1f} s, {length:.2f} m{near})"
+    return f" ({when}, {length:.2f} m{near})"
 
 
 def _title(record: EpisodeRecord) -> str:
