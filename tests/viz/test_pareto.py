@@ -7,6 +7,7 @@ import pytest
 
 from socialnav.moo.nondominated import nondominated_mask
 from socialnav.viz import plot_decision, plot_tradeoff
+from socialnav.viz.pareto import decision_pair
 
 
 def _by_label(ax, prefix):
@@ -119,3 +120,73 @@ def test_tradeoff_bad_input():
         plot_tradeoff([], "x", "y")
     with pytest.raises(ValueError, match="lacks"):
         plot_tradeoff([{"planner": "a", "x": 1.0}], "x", "y")
+
+
+# --- the decision a reader can see ----------------------------------------------------------------
+
+
+def _projection_trap():
+    """Candidate 0 is non-dominated in 4 objectives, but 20 others beat it on objectives 0 and 1
+    (they are worse on 2 and 3): the default projection (0, 1) would make it look dominated."""
+    rng = np.random.default_rng(3)
+    beaters = np.column_stack(
+        [rng.uniform(0.1, 0.4, 20), rng.uniform(0.1, 0.4, 20), rng.uniform(1, 2, (20, 2))]
+    )
+    others = rng.uniform(0.6, 1.0, size=(30, 4))
+    F = np.vstack([[0.5, 0.5, 0.2, 0.3], beaters, others])
+    return F, np.ones(len(F), bool)
+
+
+def _dominated_in_view(fig, F, chosen):
+    """How many plotted candidates dominate the chosen one in the first panel's projection."""
+    ax = fig.axes[0]
+    names = ["nav", "ID", "GD", "SGD"]
+    j = names.index(ax.get_xlabel().split(" ")[0])
+    k = names.index(ax.get_ylabel().split(" ")[0])
+    P, c = F[:, [j, k]], F[chosen, [j, k]]
+    return int(np.sum(np.all(P <= c, axis=1) & np.any(P < c, axis=1)))
+
+
+def test_decision_plots_a_projection_where_the_chosen_candidate_is_not_beaten():
+    F, legal = _projection_trap()
+    assert nondominated_mask(F)[0]
+    names = ["nav", "ID", "GD", "SGD"]
+    assert (
+        _dominated_in_view(
+            plot_decision(F, legal, chosen=0, objective_names=names, pair=(0, 1)), F, 0
+        )
+        == 20
+    )
+    fig = plot_decision(F, legal, chosen=0, objective_names=names)
+    assert _dominated_in_view(fig, F, 0) == 0
+    assert decision_pair(F, legal, 0) != (0, 1)
+
+
+def test_decision_names_what_beats_the_chosen_one_when_no_projection_clears_it():
+    F, legal = _projection_trap()
+    fig = plot_decision(F, legal, chosen=0, objective_names=["nav", "ID", "GD", "SGD"], pair=(0, 1))
+    notes = " ".join(t.get_text() for t in fig.axes[0].texts)
+    assert "20 candidates that beat #0 here are worse in GD, SGD" in notes
+
+
+@pytest.mark.parametrize("panel", [0, 1])
+def test_an_all_zero_objective_is_labelled_constant_not_stretched(panel: int):
+    rng = np.random.default_rng(4)
+    F = np.column_stack([rng.uniform(1, 2, 50), np.zeros(50)])
+    T = np.column_stack([F[:, 0] - 1.0, np.zeros(50)])
+    fig = plot_decision(
+        F,
+        np.ones(50, bool),
+        transformed=T,
+        chosen=int(np.argmin(F[:, 0])),
+        fitness=F[:, 0],
+        objective_names=["nav", "ID"],
+    )
+    ax = fig.axes[panel]
+    lo, hi = ax.get_ylim()
+    if panel == 0:
+        assert -0.06 <= lo < 0 < hi <= 0.06
+        assert "constant: 0 for every legal candidate" in ax.get_ylabel()
+    else:  # the transformed panel keeps the simplex in view, not a -4…4 range
+        assert -0.1 <= lo < 0 and 1.0 < hi <= 1.1
+        assert "lowest fitness" in ax.get_title()

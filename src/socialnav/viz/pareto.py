@@ -5,7 +5,11 @@ al., section "Multi-objective optimization"): solid markers are the Pareto (non-
 hollow markers the dominated ones. A second panel shows the PaCcET-transformed candidates, where
 the current front lies on the simplex ``sum(T) = 1`` (shared/reference/paccet.md). Deviations:
 objectives are minimized (the paper's illustration maximizes), illegal candidates are drawn as grey
-crosses, and with more than two objectives the panels are 2-D projections on a chosen pair.
+crosses, and with more than two objectives the panels are 2-D projections on a pair of objectives
+chosen so that the selected candidate is seen as non-dominated where some pair allows it
+(:func:`decision_pair`): a projection in which it looks beaten explains nothing. An objective that
+is the same for every candidate is drawn on a narrow axis and labelled as constant, never
+stretched over an arbitrary range.
 """
 
 from __future__ import annotations
@@ -20,7 +24,7 @@ from matplotlib.figure import Figure
 from socialnav.viz import _layers as L
 from socialnav.viz.style import COLORS, assign_styles
 
-__all__ = ["plot_decision", "plot_tradeoff"]
+__all__ = ["decision_pair", "plot_decision", "plot_tradeoff"]
 
 _FRONT = "#1f77b4"
 _DOMINATED = "#7f9fbf"
@@ -42,7 +46,7 @@ def _validate(
     fitness: Any,
     chosen: int | None,
     objective_names: Sequence[str] | None,
-    pair: tuple[int, int],
+    pair: tuple[int, int] | None,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray | None, np.ndarray | None, list[str]]:
     F = np.asarray(F, dtype=float)
     if F.ndim != 2 or F.shape[0] == 0 or F.shape[1] < 2:
@@ -51,7 +55,7 @@ def _validate(
     legal = _as_mask(legal, n, "legal")
     if np.isnan(F[legal]).any():
         raise ValueError("F has NaN in legal rows")
-    j, k = pair
+    j, k = (0, 1) if pair is None else pair
     if not (0 <= j < m and 0 <= k < m and j != k):
         raise ValueError(f"pair {pair} must be two different objective indices in [0, {m})")
     names = list(objective_names) if objective_names is not None else [f"f{i}" for i in range(m)]
@@ -180,6 +184,51 @@ def _scatter_space(
         )
 
 
+def _dominators(X: np.ndarray, usable: np.ndarray, chosen: int) -> np.ndarray:
+    """Mask of usable rows of ``X (N, d)`` that Pareto-dominate row ``chosen`` (minimizing)."""
+    ref = X[chosen]
+    return usable & np.all(X <= ref, axis=1) & np.any(X < ref, axis=1)
+
+
+def decision_pair(F: Any, legal: Any, chosen: int | None) -> tuple[int, int]:
+    """The two objectives of ``F (N, m)`` to plot so that the decision can be seen.
+
+    Among pairs of objectives that vary over the legal candidates, the one in which the fewest
+    candidates dominate ``chosen`` in the 2-D projection (none, whenever some pair allows it),
+    then the one with the largest spread (ranges relative to each objective's scale). ``(0, 1)``
+    when nothing distinguishes the pairs.
+    """
+    F = np.asarray(F, dtype=float)
+    m = F.shape[1]
+    usable = np.asarray(legal, dtype=bool) & np.isfinite(F).all(axis=1)
+    if m == 2 or not usable.any():
+        return (0, 1)
+    spread = np.ptp(F[usable], axis=0) / np.maximum(np.abs(F[usable]).max(axis=0), 1e-12)
+    varying = [i for i in range(m) if spread[i] > 1e-9]
+    best, best_key = (0, 1), (np.inf, 0.0)
+    for j in range(m):
+        for k in range(j + 1, m):
+            moving = (j in varying) + (k in varying)
+            beaten = 0 if chosen is None else int(_dominators(F[:, [j, k]], usable, chosen).sum())
+            key = (float(beaten) - moving * 1e6, -(spread[j] + spread[k]))
+            if key < best_key:
+                best, best_key = (j, k), key
+    return best
+
+
+def _flat_axes(ax: Axes, X: np.ndarray, usable: np.ndarray, names: Sequence[str]) -> None:
+    """Narrow limits and a label for a plotted objective that every candidate shares."""
+    for dim, (name, setter) in enumerate(zip(names, (ax.set_xlim, ax.set_ylim), strict=True)):
+        values = X[usable, dim]
+        if values.size == 0 or np.ptp(values) > 1e-9 * max(1.0, float(np.abs(values).max())):
+            continue
+        value = float(values[0])
+        half = 0.1 * abs(value) if value != 0 else 0.05
+        setter(value - half, value + half)
+        label = ax.set_xlabel if dim == 0 else ax.set_ylabel
+        label(f"{name} — constant: {value:.3g} for every legal candidate")
+
+
 def plot_decision(
     F: Any,
     legal: Any,
@@ -189,7 +238,7 @@ def plot_decision(
     objective_names: Sequence[str] | None = None,
     *,
     fitness: Any = None,
-    pair: tuple[int, int] = (0, 1),
+    pair: tuple[int, int] | None = None,
     title: str | None = None,
 ) -> Figure:
     """Why did this candidate win? One control cycle's objective space.
@@ -200,7 +249,13 @@ def plot_decision(
     - ``transformed (N, m)`` PaCcET coordinates (optional second panel, with the simplex edge
       ``T_j + T_k = 1`` and points coloured by ``fitness (N,)`` when given).
     - ``chosen``: index of the selected candidate (red star), or ``None``.
-    - ``pair``: the two objective columns to plot (projection when ``m > 2``).
+    - ``pair``: the two objective columns to plot (projection when ``m > 2``); by default
+      :func:`decision_pair`, the pair in which the chosen candidate is seen as non-dominated.
+
+    With ``m > 2`` the markers say whether a candidate is dominated in *all* objectives; when the
+    chosen candidate is still beaten in the plotted pair, a note names the objectives in which
+    those candidates are worse. With ``fitness``, the transformed panel's title gives the chosen
+    candidate's rank (PaCcET selects the lowest fitness).
 
     Returns a :class:`~matplotlib.figure.Figure`. Raises ``ValueError`` on inconsistent shapes,
     NaN in legal rows, an out-of-range ``chosen`` or a bad ``pair``.
@@ -208,8 +263,9 @@ def plot_decision(
     F, legal, nd, T, fit, names = _validate(
         F, legal, nondominated, transformed, fitness, chosen, objective_names, pair
     )
-    j, k = pair
+    j, k = decision_pair(F, legal, chosen) if pair is None else pair
     m = F.shape[1]
+    usable = legal & np.isfinite(F).all(axis=1)
     panels = 2 if T is not None else 1
     fig = L.new_figure(5.2 * panels + (0.8 if fit is not None else 0.0), 4.6)
     axes = fig.subplots(1, panels, squeeze=False).ravel()
@@ -220,6 +276,34 @@ def plot_decision(
     proj = "" if m == 2 else f" — projection of {m} objectives"
     ax.set_title(f"raw objectives{proj}", fontsize=10)
     ax.grid(True, color="#e5e5e5", linewidth=0.5)
+    _flat_axes(ax, F[:, [j, k]], usable, [f"{names[j]} (minimize)", f"{names[k]} (minimize)"])
+    notes = []
+    if m > 2:
+        notes.append(f"markers: dominated or not in all {m} objectives")
+    if chosen is not None:
+        beaten = _dominators(F[:, [j, k]], usable, chosen)
+        if beaten.any():
+            worse = [
+                names[i]
+                for i in range(m)
+                if i not in (j, k) and np.any(F[beaten, i] > F[chosen, i])
+            ]
+            notes.append(
+                f"the {int(beaten.sum())} candidates that beat #{chosen} here are worse in "
+                + (", ".join(worse) or "no objective (ties)")
+            )
+    if notes:
+        ax.text(
+            0.01,
+            0.99,
+            "\n".join(notes),
+            transform=ax.transAxes,
+            ha="left",
+            va="top",
+            fontsize=7,
+            color="#444444",
+            zorder=8,
+        )
     hidden = int((~np.isfinite(F[:, [j, k]]).all(axis=1)).sum())
     if hidden:
         ax.text(
@@ -250,8 +334,25 @@ def plot_decision(
         )
         ax2.set_xlabel(f"T[{names[j]}]")
         ax2.set_ylabel(f"T[{names[k]}]")
-        ax2.set_title("PaCcET-transformed", fontsize=10)
-        ax2.set_aspect("equal", adjustable="datalim")
+        heading = "PaCcET-transformed"
+        if fit is not None and chosen is not None and np.isfinite(fit[chosen]):
+            # PaCcET picks the lowest fitness among the non-dominated (archive) candidates
+            pool = usable & np.isfinite(fit) & (nd if nd[chosen] else True)
+            rank = 1 + int(np.sum(fit[pool] < fit[chosen]))
+            among = f"the {int(pool.sum())} non-dominated" if nd[chosen] else "the legal"
+            if rank == 1:
+                heading += f":\n#{chosen} has the lowest fitness of {among}"
+            else:
+                heading += f":\n#{chosen} has fitness rank {rank} of {among}"
+        ax2.set_title(heading, fontsize=10)
+        # the simplex (and every point) in view, however flat the transformed values are
+        TX = T[:, [j, k]][usable & np.isfinite(T[:, [j, k]]).all(axis=1)]
+        lo = np.minimum(0.0, TX.min(axis=0)) if TX.size else np.zeros(2)
+        hi = np.maximum(1.0, TX.max(axis=0)) if TX.size else np.ones(2)
+        pad = 0.05 * (hi - lo)
+        ax2.set_xlim(lo[0] - pad[0], hi[0] + pad[0])
+        ax2.set_ylim(lo[1] - pad[1], hi[1] + pad[1])
+        ax2.set_aspect("equal", adjustable="box")
         ax2.grid(True, color="#e5e5e5", linewidth=0.5)
         ax2.legend(fontsize=8, loc="best", framealpha=0.85)
     if title is not None:
