@@ -69,7 +69,15 @@ def run(
 
     try:
         summary = run_single(
-            scenario, planner, robot, seed=seed, humans=humans, out=out, fmt=fmt, video=video
+            scenario,
+            planner,
+            robot,
+            seed=seed,
+            humans=humans,
+            out=out,
+            fmt=fmt,
+            video=video,
+            progress=lambda line: typer.echo(line, err=True),
         )
     except ConfigurationError as exc:
         _fail(str(exc))
@@ -132,6 +140,11 @@ def compare(
         task = bar.add_task(f"{suite} suite", total=len(specs))
 
         def advance(done: int, total: int) -> None:
+            if done == 0 and total < len(specs):
+                bar.console.print(
+                    f"{len(specs) - total} of {len(specs)} episodes already stored in {out}; "
+                    f"running the other {total}"
+                )
             bar.update(task, completed=done, total=total)
 
         rows = run_suite(

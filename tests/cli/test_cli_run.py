@@ -276,3 +276,13 @@ def test_traditional_enters_personal_space_where_paccet_does_not(csv_run, paccet
     assert trad_ok["reached_goal"] and trad_ok["no_collision"]
     assert trad["proxemic_intrusions"] >= 1 > ours["proxemic_intrusions"]
     assert trad["lateral_distance"] < 1.2 <= ours["lateral_distance"]
+
+
+def test_run_shows_progress_on_stderr_and_keeps_stdout_json(tmp_path: Path) -> None:
+    result = invoke("run", SCENARIO, "--planner", "hl", "--out", str(tmp_path))
+    assert result.exit_code == 0, result.output
+    lines = result.stderr.splitlines()
+    assert lines[0] == f"running {SCENARIO} with hl on pr2 (seed 0) …"
+    assert any(line.startswith("episode: ") and " steps, " in line for line in lines)
+    assert lines[-1] == "done"
+    assert json.loads(result.stdout)["planner"] == "hl"  # stdout stays machine-readable

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import difflib
 import json
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -81,8 +82,13 @@ def run_single(
     out: Path = Path("out"),
     fmt: str = "parquet",
     video: str = "none",
+    progress: Callable[[str], None] | None = None,
 ) -> dict[str, Any]:
-    """Run, measure and draw one episode into ``out``; returns a summary dict."""
+    """Run, measure and draw one episode into ``out``; returns a summary dict.
+
+    ``progress`` receives one line as each stage starts and ends (the episode, the files, the
+    figures, the video), so a person sees what the command is doing.
+    """
     import pyarrow as pa
     import pyarrow.parquet as pq
 
@@ -98,9 +104,15 @@ def run_single(
         raise ConfigurationError(f"unknown human model {humans!r}; use scripted or reactive")
     if video not in ("none", "gif", "mp4"):
         raise ConfigurationError(f"unknown video format {video!r}; use none, gif or mp4")
+    say = progress or (lambda line: None)
     spec = EpisodeSpec(scenario=scenario, planner=planner, robot=robot, seed=seed, humans=humans)
+    say(f"running {spec.scenario} with {planner} on {robot} (seed {seed}) …")
     result = run_planner_episode(spec, record_diagnostics=True)
     record = result.record
+    say(
+        f"episode: {record.num_steps} steps, {record.times[-1]:.1f} s simulated in "
+        f"{result.wall_time:.1f} s; writing {out}/ …"
+    )
     out.mkdir(parents=True, exist_ok=True)
     save_episode(record, out, fmt=fmt)
     columns = diagnostics_table(result.diagnostics)
@@ -111,6 +123,7 @@ def run_single(
     (out / "metrics.json").write_text(
         json.dumps({**metrics, "success_conditions": success}, indent=1)
     )
+    say("drawing topdown.png and decision.png …")
     save_figure(plot_episode(record, label=planner), out / "topdown.png")
     decision = decision_figure(result.diagnostics, record)
     if decision is not None:
@@ -119,7 +132,9 @@ def run_single(
         from socialnav.viz.animation import animate_episode
 
         frames = fan_frames(result.diagnostics)
+        say(f"rendering episode.{video} ({record.num_steps} frames) …")
         animate_episode(record, frames or None, out / f"episode.{video}", fmt=video)
+    say("done")
     return {
         "scenario": record.scenario,
         "planner": planner,
