@@ -5,6 +5,8 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
+import pytest
+
 ROOT = Path(__file__).resolve().parents[1]
 
 
@@ -48,3 +50,19 @@ def test_readme_python_example_runs_and_plans_a_move() -> None:
     result = namespace["result"]
     assert str(result.status.value) == "OK"
     assert result.cmd[0] > 0  # the robot starts moving toward the goal
+
+
+def test_readme_duckdb_query_runs_on_stored_results(tmp_path, monkeypatch) -> None:
+    pytest.importorskip("duckdb")
+    from socialnav.experiments.suite import run_suite, suite_specs
+
+    text = (ROOT / "README.md").read_text()
+    (block,) = [b for b in re.findall(r"```python\n(.*?)```", text, re.S) if "duckdb" in b]
+    specs = suite_specs("paper", ["hallway_passing"], ["hl", "orca"], ["pr2"], 1)
+    run_suite(specs, tmp_path / "report", n_jobs=1, suite="paper")
+    monkeypatch.chdir(tmp_path)
+    namespace: dict[str, object] = {}
+    exec(compile(block.replace("print(", "result = ("), "README.md", "exec"), namespace)
+    rows = namespace["result"].fetchall()  # type: ignore[attr-defined]
+    assert sorted(r[0] for r in rows) == ["hl", "orca"]
+    assert all(r[1] == "pr2" and r[2] == 1 and r[3] in (0.0, 1.0) for r in rows)

@@ -143,8 +143,8 @@ def _dominated_in_view(fig, F, chosen):
     names = ["nav", "ID", "GD", "SGD"]
     j = names.index(ax.get_xlabel().split(" ")[0])
     k = names.index(ax.get_ylabel().split(" ")[0])
-    P, c = F[:, [j, k]], F[chosen, [j, k]]
-    return int(np.sum(np.all(P <= c, axis=1) & np.any(P < c, axis=1)))
+    pts, ref = F[:, [j, k]], F[chosen, [j, k]]
+    return int(np.sum(np.all(pts <= ref, axis=1) & np.any(pts < ref, axis=1)))
 
 
 def test_decision_plots_a_projection_where_the_chosen_candidate_is_not_beaten():

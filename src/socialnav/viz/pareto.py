@@ -186,8 +186,9 @@ def _scatter_space(
 
 def _dominators(X: np.ndarray, usable: np.ndarray, chosen: int) -> np.ndarray:
     """Mask of usable rows of ``X (N, d)`` that Pareto-dominate row ``chosen`` (minimizing)."""
-    ref = X[chosen]
-    return usable & np.all(X <= ref, axis=1) & np.any(X < ref, axis=1)
+    points = np.asarray(X)
+    ref = points[chosen]
+    return usable & np.all(points <= ref, axis=1) & np.any(points < ref, axis=1)
 
 
 def decision_pair(F: Any, legal: Any, chosen: int | None) -> tuple[int, int]:
