@@ -3,6 +3,7 @@ against a kill at any moment."""
 
 from __future__ import annotations
 
+import json
 import math
 import os
 import signal
@@ -212,3 +213,15 @@ def test_a_killed_run_loses_only_episodes_in_flight_and_resumes(tmp_path: Path) 
     # what finished before the kill was kept, not run again
     assert {r["run_id"]: r["wall_time_s"] for r in stored if r["run_id"] in stamps} == stamps
     assert _fragments(tmp_path) == []
+
+
+def test_sql_engines_see_the_column_documentation_too(local) -> None:
+    duckdb = pytest.importorskip("duckdb")
+    out, _ = local
+    path = next((out / "results").rglob(PART_FILE)).as_posix()
+    ((value,),) = duckdb.sql(
+        f"SELECT value FROM parquet_kv_metadata('{path}') WHERE key = 'socialnav_columns'"
+    ).fetchall()
+    documented = json.loads(value.decode() if isinstance(value, bytes) else value)
+    assert documented["psc_1_2"]["unit"] == "1" and documented["psc_1_2"]["direction"] == "max"
+    assert documented["time_to_goal"]["unit"] == "s"

@@ -16,7 +16,8 @@ episodes run again: never an ``ArrowInvalid`` traceback.
 Columns: the episode's spec (``scenario``, ``seed``, ``humans``, ``randomize``, …) with ``suite``,
 ``planner`` and ``robot`` in the path only; ``family`` and ``steps``; one ``float64`` column per
 registered metric (``psc_1.2`` is column ``psc_1_2``: names need no quoting in SQL) whose field
-metadata holds its ``unit``, ``direction`` (``min``: lower is better) and ``description``; one
+metadata holds its ``unit``, ``direction`` (``min``: lower is better) and ``description`` (also
+in the file's key-value metadata ``socialnav_columns``, a JSON object by column); one
 boolean ``ok_<condition>`` per success condition of the family (overall success is the metric
 ``success``, stored once); ``error`` (null when the episode ran) and the timing columns
 ``wall_time_s`` and ``planner_ms_median``, which are the only ones that differ between two runs of
@@ -49,6 +50,7 @@ _TIMING_META = {
     "planner_ms_median": ("ms", "min", "Median time of one planning cycle (our planners only)."),
 }
 LEGACY_FILE = "results.parquet"
+COLUMNS_KEY = "socialnav_columns"
 
 
 def metric_column(name: str) -> str:
@@ -105,7 +107,15 @@ def rows_to_table(rows: Sequence[dict[str, Any]]) -> pa.Table:
     ]
     columns = {k: [r.get(k) for r in rows] for k in ordered}
     fields = [_field(k, columns[k], metrics) for k in ordered]
-    return pa.Table.from_pydict(columns, schema=pa.schema(fields))
+    # the same documentation once more at file level: SQL engines show key-value metadata
+    # (DuckDB's parquet_kv_metadata) but not Arrow field metadata
+    documented = {
+        f.name: {k.decode(): v.decode() for k, v in f.metadata.items()}
+        for f in fields
+        if f.metadata
+    }
+    schema = pa.schema(fields, metadata={COLUMNS_KEY: json.dumps(documented)})
+    return pa.Table.from_pydict(columns, schema=schema)
 
 
 def _write_atomic(table: pa.Table, path: Path) -> None:
@@ -226,17 +236,3 @@ def load_results(
 def suites_in(rows: Iterable[dict[str, Any]]) -> list[str]:
     """The suites present in ``rows``, sorted."""
     return sorted({r["suite"] for r in rows})
-
-
-def metric_metadata(schema: pa.Schema) -> dict[str, dict[str, str]]:
-    """Column → its metadata (unit, direction, description, …) for documented columns."""
-    out = {}
-    for field in schema:
-        if field.metadata:
-            out[field.name] = {k.decode(): v.decode() for k, v in field.metadata.items()}
-    return out
-
-
-def describe(out_dir: Path) -> str:
-    """A JSON summary of the dataset's documented columns (for people and tools)."""
-    return json.dumps(metric_metadata(ResultStore(out_dir).schema()), indent=1)
