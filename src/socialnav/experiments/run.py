@@ -162,7 +162,7 @@ def decision_figure(diagnostics: list[Any], record: Any) -> Any:
             gaps = record.people_positions[step] - record.robot_poses[step, :2]
             near = np.hypot(gaps[:, 0], gaps[:, 1])  # NaN for people absent at this step
             distance = float(np.nanmin(near)) if np.isfinite(near).any() else np.inf
-        if distance < best_distance:
+        if best is None or distance < best_distance:
             best, best_distance = (step, rec), distance
     if best is None:
         return None
