@@ -168,6 +168,7 @@ def decision_figure(diagnostics: list[Any], record: Any) -> Any:
         return None
     step, rec = best
     details = rec.selection or {}
+    where = f"{best_distance:.2f} m from a person" if np.isfinite(best_distance) else "nobody near"
     return plot_decision(
         rec.F,
         rec.legal,
@@ -176,7 +177,7 @@ def decision_figure(diagnostics: list[Any], record: Any) -> Any:
         rec.chosen,
         rec.objective_names,
         fitness=rec.fitness,
-        title=f"cycle at t = {record.times[step]:.1f} s ({best_distance:.2f} m from a person)",
+        title=f"cycle at t = {record.times[step]:.1f} s ({where})",
     )
 
 
