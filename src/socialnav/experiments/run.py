@@ -156,12 +156,9 @@ def decision_figure(diagnostics: list[Any], record: Any) -> Any:
         rec = getattr(diag, "record", None)
         if rec is None or rec.chosen is None or rec.F.ndim != 2 or rec.F.shape[1] < 2:
             continue
-        if record.people_positions.shape[1] == 0:
-            distance = 0.0
-        else:
-            gaps = record.people_positions[step] - record.robot_poses[step, :2]
-            near = np.hypot(gaps[:, 0], gaps[:, 1])  # NaN for people absent at this step
-            distance = float(np.nanmin(near)) if np.isfinite(near).any() else np.inf
+        gaps = record.people_positions[step] - record.robot_poses[step, :2]
+        near = np.hypot(gaps[:, 0], gaps[:, 1])  # NaN for people absent at this step
+        distance = float(np.nanmin(near)) if np.isfinite(near).any() else np.inf
         if best is None or distance < best_distance:
             best, best_distance = (step, rec), distance
     if best is None:
