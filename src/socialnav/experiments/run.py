@@ -165,22 +165,7 @@ def decision_figure(diagnostics: list[Any], record: Any) -> Any:
 
 
 def fan_frames(diagnostics: list[Any]) -> list[Any]:
-    """Per-step candidate fans for the animation, from the planner's evaluation records."""
-    from socialnav.viz.animation import FanFrame
+    """Per-sample candidate fans for the animation, from the planner's evaluation records."""
+    from socialnav.viz.animation import fan_frame
 
-    frames: list[Any] = []
-    for diag in diagnostics:
-        record = getattr(diag, "record", diag)
-        poses = getattr(record, "poses", None)
-        if record is None or poses is None:
-            frames.append(None)
-            continue
-        frames.append(
-            FanFrame(
-                poses=np.asarray(poses)[..., :2],
-                fitness=np.asarray(record.fitness),
-                legal=np.asarray(record.legal),
-                chosen=record.chosen,
-            )
-        )
-    return frames
+    return [fan_frame(getattr(diag, "record", None)) for diag in diagnostics]
