@@ -17,13 +17,13 @@ def test_fan_frames_exist_where_a_cycle_was_evaluated():
     evaluated = [
         i
         for i, d in enumerate(result.diagnostics)
-        if d is not None and d.record is not None and d.record.fitness is not None
+        if d is not None and d.fitness is not None
     ]
     assert len(evaluated) > 10
     for i in evaluated:
         fan = frames[i]
         assert fan is not None
-        rec = result.diagnostics[i].record
+        rec = result.diagnostics[i]
         assert fan.poses.shape == (rec.num_samples, 1, 2)
         np.testing.assert_array_equal(fan.poses[:, 0], rec.end_poses[:, :2])
         assert fan.chosen == rec.chosen

@@ -61,12 +61,23 @@ class PlannerStatus(StrEnum):
 
 @dataclass(frozen=True)
 class PlannerResult:
-    """``cmd (3,)`` body twist to apply; ``status``; ``record`` when asked; ``message`` why."""
+    """One control cycle's outcome, from a local planner, a recovering wrapper, the navigator or
+    any simulator controller (the one per-step result type).
+
+    - ``cmd (3,)``: body twist ``(vx, vy, wz)`` to apply, m/s and rad/s, robot frame;
+    - ``status``: :class:`PlannerStatus`;
+    - ``record``: the cycle's :class:`EvaluationRecord` when asked (``record=True``), else None;
+    - ``message``: why, for a status other than ``OK``;
+    - ``target``: the world pose ``(3,)`` the cycle drove toward (the social goal, a waypoint or
+      the given goal), or None when the cycle did not get that far; success is measured against
+      the target the controller recorded last.
+    """
 
     cmd: FloatArray
     status: PlannerStatus
     record: EvaluationRecord | None = None
     message: str = ""
+    target: FloatArray | None = None
 
 
 @dataclass(frozen=True)
@@ -297,10 +308,8 @@ class LocalPlanner:
     def _tolerances(self, ctx: PlanningContext) -> tuple[float, float]:
         sg = ctx.social_goal
         xy, yaw = self.params.xy_goal_tolerance, self.params.yaw_goal_tolerance
-        pose = getattr(sg, "pose", None)
-        if pose is not None and np.allclose(np.asarray(pose, dtype=float), ctx.goal):
-            xy = float(getattr(sg, "position_tolerance", xy))
-            yaw = float(getattr(sg, "yaw_tolerance", yaw))
+        if sg is not None and np.allclose(np.asarray(sg.pose, dtype=float), ctx.goal):
+            xy, yaw = float(sg.position_tolerance), float(sg.yaw_tolerance)
         return xy, yaw
 
     def _at_goal(
@@ -390,7 +399,7 @@ class LocalPlanner:
         selection: object = None,
     ) -> PlannerResult:
         if not record:
-            return PlannerResult(cmd, status, None, message)
+            return PlannerResult(cmd, status, None, message, ctx.goal)
         timing = dict(cycle.timing) if cycle else {}
         timing["total"] = time.perf_counter() - start
         ev = cycle.evaluation if cycle else None
@@ -417,4 +426,4 @@ class LocalPlanner:
             selection=dict(getattr(selection, "details", {}) or {}),
             timing=timing,
         )
-        return PlannerResult(cmd, status, rec, message)
+        return PlannerResult(cmd, status, rec, message, ctx.goal)
