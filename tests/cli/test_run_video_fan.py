@@ -15,9 +15,7 @@ def test_fan_frames_exist_where_a_cycle_was_evaluated():
     frames = fan_frames(result.diagnostics)
     assert len(frames) == result.record.num_steps
     evaluated = [
-        i
-        for i, d in enumerate(result.diagnostics)
-        if d is not None and d.fitness is not None
+        i for i, d in enumerate(result.diagnostics) if d is not None and d.fitness is not None
     ]
     assert len(evaluated) > 10
     for i in evaluated:

@@ -35,6 +35,7 @@ from socialnav.core.errors import ConfigurationError
 from socialnav.core.geometry import FloatArray, wrap_angle
 from socialnav.core.robot import RobotModel
 from socialnav.core.trajectories import Trajectories
+from socialnav.moo.selection import Selection, SelectionStrategy
 from socialnav.planner.context import PlanningContext
 from socialnav.planner.critics.base import CriticUnavailable
 from socialnav.planner.critics.goal_distance import GoalDistanceCritic
@@ -240,7 +241,7 @@ class LocalPlanner:
         self,
         robot: RobotModel,
         objectives: Sequence[Objective],
-        selection: object,
+        selection: SelectionStrategy,
         params: LocalPlannerParams | None = None,
     ) -> None:
         self.robot = robot
@@ -347,7 +348,7 @@ class LocalPlanner:
 
     def _sample_and_select(
         self, ctx: PlanningContext, cycle: _Cycle
-    ) -> tuple[PlannerStatus, FloatArray, str, object]:
+    ) -> tuple[PlannerStatus, FloatArray, str, Selection | None]:
         p, t = self.params, cycle.timing
         t0 = time.perf_counter()
         twists = sample_twists(self.robot, ctx.velocity, p)
@@ -396,7 +397,7 @@ class LocalPlanner:
         record: bool,
         cycle: _Cycle | None,
         start: float,
-        selection: object = None,
+        selection: Selection | None = None,
     ) -> PlannerResult:
         if not record:
             return PlannerResult(cmd, status, None, message, ctx.goal)
@@ -421,9 +422,9 @@ class LocalPlanner:
             legal=ev.legal if ev else np.zeros(0, dtype=bool),
             raw=ev.raw if ev else {},
             rejected=ev.rejected if ev else {},
-            fitness=getattr(selection, "fitness", None),
-            chosen=getattr(selection, "index", None),
-            selection=dict(getattr(selection, "details", {}) or {}),
+            fitness=None if selection is None else selection.fitness,
+            chosen=None if selection is None else selection.index,
+            selection={} if selection is None else dict(selection.details),
             timing=timing,
         )
         return PlannerResult(cmd, status, rec, message, ctx.goal)
