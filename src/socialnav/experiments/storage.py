@@ -93,8 +93,9 @@ def trajectory_table(record: EpisodeRecord) -> pa.Table:
     is_robot = columns["agent"] == ROBOT
     step = columns["step"]
     columns["wz"] = pa.array(columns["wz"], mask=~is_robot)
+    status = np.array([str(s) for s in np.asarray(record.status)], dtype=object)
     for name, values in (
-        ("status", np.asarray([str(s) for s in record.status], dtype=object)),
+        ("status", status),
         ("collision_person", np.asarray(record.collision_person, dtype=bool)),
         ("collision_obstacle", np.asarray(record.collision_obstacle, dtype=bool)),
     ):

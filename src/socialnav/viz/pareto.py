@@ -219,15 +219,19 @@ def decision_pair(F: Any, legal: Any, chosen: int | None) -> tuple[int, int]:
 
 def _flat_axes(ax: Axes, X: np.ndarray, usable: np.ndarray, names: Sequence[str]) -> None:
     """Narrow limits and a label for a plotted objective that every candidate shares."""
-    for dim, (name, setter) in enumerate(zip(names, (ax.set_xlim, ax.set_ylim), strict=True)):
+    for dim, name in enumerate(names):
         values = X[usable, dim]
         if values.size == 0 or np.ptp(values) > 1e-9 * max(1.0, float(np.abs(values).max())):
             continue
         value = float(values[0])
         half = 0.1 * abs(value) if value != 0 else 0.05
-        setter(value - half, value + half)
-        label = ax.set_xlabel if dim == 0 else ax.set_ylabel
-        label(f"{name} — constant: {value:.3g} for every legal candidate")
+        text = f"{name} — constant: {value:.3g} for every legal candidate"
+        if dim == 0:
+            ax.set_xlim(value - half, value + half)
+            ax.set_xlabel(text)
+        else:
+            ax.set_ylim(value - half, value + half)
+            ax.set_ylabel(text)
 
 
 def plot_decision(
