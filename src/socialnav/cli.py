@@ -151,5 +151,37 @@ def list_components() -> None:
         typer.echo(f"planner {name}: {PLANNERS.get(name).description}")
 
 
+# --- ROS 2 --------------------------------------------------------------------------------
+
+
+@app.command(
+    "ros2", context_settings={"allow_extra_args": True, "ignore_unknown_options": True}
+)
+def ros2(
+    ctx: typer.Context,
+    params: Annotated[
+        Path | None, typer.Option(help="Nav2-style params file (socialnav: ros__parameters: ...).")
+    ] = None,
+) -> None:
+    """Run the socialnav ROS 2 lifecycle node; arguments after --ros-args go to ROS."""
+    import importlib.util
+
+    from socialnav.core.errors import ConfigurationError
+    from socialnav.integrations.ros2 import INSTALL_HINT
+    from socialnav.integrations.ros2.params import load_params_file
+
+    if params is not None:
+        try:
+            load_params_file(params)
+        except ConfigurationError as exc:
+            _fail(str(exc))
+    if importlib.util.find_spec("rclpy") is None:
+        _fail(INSTALL_HINT)
+    from socialnav.integrations.ros2.node import main
+
+    extra = [a for a in ctx.args if a != "--ros-args"]
+    raise typer.Exit(code=main(None if params is None else str(params), extra))
+
+
 if __name__ == "__main__":
     app()
