@@ -154,9 +154,7 @@ def list_components() -> None:
 # --- ROS 2 --------------------------------------------------------------------------------
 
 
-@app.command(
-    "ros2", context_settings={"allow_extra_args": True, "ignore_unknown_options": True}
-)
+@app.command("ros2", context_settings={"allow_extra_args": True, "ignore_unknown_options": True})
 def ros2(
     ctx: typer.Context,
     params: Annotated[

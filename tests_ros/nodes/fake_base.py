@@ -46,7 +46,9 @@ class FakeBase(Node):
     def tick(self) -> None:
         r = self.robot
         now = self.get_clock().now()
-        target = list(self.cmd) if now.nanoseconds * 1e-9 - self.cmd_time < CMD_TIMEOUT else [0.0] * 3
+        target = (
+            list(self.cmd) if now.nanoseconds * 1e-9 - self.cmd_time < CMD_TIMEOUT else [0.0] * 3
+        )
         if not r.holonomic:
             target[1] = 0.0
         lo = (r.min_vel_x, -r.max_vel_y, -r.max_vel_theta)
@@ -72,7 +74,10 @@ class FakeBase(Node):
         msg.header.frame_id = "odom"
         msg.child_frame_id = "base_link"
         msg.pose.pose.position.x, msg.pose.pose.position.y = x, y
-        msg.pose.pose.orientation.z, msg.pose.pose.orientation.w = math.sin(th / 2), math.cos(th / 2)
+        msg.pose.pose.orientation.z, msg.pose.pose.orientation.w = (
+            math.sin(th / 2),
+            math.cos(th / 2),
+        )
         msg.twist.twist.linear.x, msg.twist.twist.linear.y = vx, vy
         msg.twist.twist.angular.z = w
         self.pub.publish(msg)

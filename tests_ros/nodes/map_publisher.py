@@ -1,6 +1,6 @@
 """Map publisher: reads a ROS map YAML as map_server does and latches it on ``map``.
 
-    python map_publisher.py MAP_YAML
+python map_publisher.py MAP_YAML
 """
 
 from __future__ import annotations

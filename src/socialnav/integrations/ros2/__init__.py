@@ -1,4 +1,4 @@
-"""socialnav on a robot: a ROS 2 lifecycle node around :func:`~socialnav.planner.presets.build_navigator`.
+"""socialnav on a robot: a ROS 2 lifecycle node around ``build_navigator``.
 
 - :mod:`.node` — the rclpy node (needs the extra: ``pip install 'socialnav[ros]'``); started with
   ``socialnav ros2 --params FILE``.

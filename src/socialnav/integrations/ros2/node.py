@@ -10,7 +10,7 @@ Topics (names relative, so remappable with ``--ros-args -r odom:=/wheel/odom``):
 ``goal_pose``             geometry_msgs/PoseStamped (sub)      a new goal replaces the old one
 ``people``                geometry_msgs/PoseArray (sub)        detections; ids and velocities are
                                                                estimated (:mod:`.people`)
-``cmd_vel``               geometry_msgs/Twist or TwistStamped  body twist (``enable_stamped_cmd_vel``)
+``cmd_vel``               geometry_msgs/Twist or TwistStamped  body twist; stamped by parameter
 ``plan``                  nav_msgs/Path                        the global plan being followed
 ``local_plan``            nav_msgs/Path                        the chosen trajectory's rollout
 ``social_goal``           geometry_msgs/PoseStamped            the target the planner drives to
@@ -345,9 +345,7 @@ class SocialNavNode(LifecycleNode):  # type: ignore[misc]
             self.get_logger().error(f"map refused: {exc}")
             return
         self._dirty = True
-        self.get_logger().info(
-            f"map {info.width} x {info.height} at {info.resolution:g} m/cell"
-        )
+        self.get_logger().info(f"map {info.width} x {info.height} at {info.resolution:g} m/cell")
 
     def _on_goal(self, msg: PoseStamped) -> None:
         goal = self._to_global(msg.header, _pose2d(msg.pose), "goal")
@@ -361,8 +359,10 @@ class SocialNavNode(LifecycleNode):  # type: ignore[misc]
         stamp = _seconds(msg.header.stamp) or self._now()
         poses = [_pose2d(p) for p in msg.poses]
         yaws = [
-            np.nan if (p.orientation.x, p.orientation.y, p.orientation.z, p.orientation.w)
-            == (0.0, 0.0, 0.0, 0.0) else pose[2]
+            np.nan
+            if (p.orientation.x, p.orientation.y, p.orientation.z, p.orientation.w)
+            == (0.0, 0.0, 0.0, 0.0)
+            else pose[2]
             for p, pose in zip(msg.poses, poses, strict=True)
         ]
         converted = []
@@ -413,9 +413,7 @@ class SocialNavNode(LifecycleNode):  # type: ignore[misc]
             cmd = decelerate(self._last_cmd, self.robot, dt)
             self._publish_cmd(cmd, self._odom[3] if self._odom else None)
             self.last_status = "STALE_INPUT"
-            self._publish_diagnostics(
-                DiagnosticStatus.ERROR, "stopping: " + "; ".join(stale), ages
-            )
+            self._publish_diagnostics(DiagnosticStatus.ERROR, "stopping: " + "; ".join(stale), ages)
             return
         assert self._odom is not None
         pose, velocity, t, stamp = self._odom
@@ -499,7 +497,9 @@ class SocialNavNode(LifecycleNode):  # type: ignore[misc]
         path = self.navigator.global_path
         if path is not None:
             self._pubs["plan"].publish(self._path_msg(header, path))
-        local = rollout(pose, velocity, np.asarray(cmd).reshape(1, 3), self.robot, self.planner_params)
+        local = rollout(
+            pose, velocity, np.asarray(cmd).reshape(1, 3), self.robot, self.planner_params
+        )
         poses = local.poses[0]
         self._pubs["local_plan"].publish(self._path_msg(header, poses[:, :2], poses[:, 2]))
         if record is not None:
@@ -508,7 +508,9 @@ class SocialNavNode(LifecycleNode):  # type: ignore[misc]
                 PoseStamped(header=header, pose=_pose_msg(g[0], g[1], g[2]))
             )
 
-    def _marker(self, header: Header, ns: str, mid: int, kind: int, rgba: Sequence[float]) -> Marker:
+    def _marker(
+        self, header: Header, ns: str, mid: int, kind: int, rgba: Sequence[float]
+    ) -> Marker:
         m = Marker(header=header, ns=ns, id=mid, type=kind, action=Marker.ADD)
         m.pose.orientation.w = 1.0
         m.color = ColorRGBA(r=rgba[0], g=rgba[1], b=rgba[2], a=rgba[3])

@@ -158,9 +158,13 @@ _NODE: tuple[ParamSpec, ...] = (
     ParamSpec("odom_timeout", 0.5, "s, odometry older than this stops the robot", 0.01, 60.0),
     ParamSpec("people_timeout", 1.0, "s, people older than this stop the robot", 0.01, 60.0),
     ParamSpec("require_people", True, "stop when no people message arrived within the timeout"),
-    ParamSpec("people_gate", 1.0, "m, farthest a detection may be from a track's prediction", 0.05, 10.0),
+    ParamSpec(
+        "people_gate", 1.0, "m, farthest a detection may be from a track's prediction", 0.05, 10.0
+    ),
     ParamSpec("people_track_timeout", 1.0, "s, a person unseen this long is forgotten", 0.05, 60.0),
-    ParamSpec("people_max_speed", 3.0, "m/s, estimated person speeds are clipped to this", 0.1, 20.0),
+    ParamSpec(
+        "people_max_speed", 3.0, "m/s, estimated person speeds are clipped to this", 0.1, 20.0
+    ),
     ParamSpec("person_radius", 0.25, "m, radius of every detected person", 0.05, 2.0),
     ParamSpec("inflation_radius", 0.55, "m, costmap inflation radius", 0.0, 10.0),
     ParamSpec("cost_scaling_factor", 10.0, "costmap inflation decay rate, 1/m", 0.01, 100.0),
@@ -225,7 +229,9 @@ def validate_value(spec: ParamSpec, value: Any) -> Value:
             isinstance(v, int | float) and not isinstance(v, bool) and math.isfinite(v)
             for v in value
         ):
-            raise ConfigurationError(f"{spec.name}: expected a list of finite numbers, got {value!r}")
+            raise ConfigurationError(
+                f"{spec.name}: expected a list of finite numbers, got {value!r}"
+            )
         if len(value) != len(spec.default):  # type: ignore[arg-type]
             raise ConfigurationError(
                 f"{spec.name}: expected {len(spec.default)} numbers, got {len(value)}"  # type: ignore[arg-type]
@@ -279,7 +285,8 @@ def load_params_file(path: str | Path, node_name: str = DEFAULT_NODE_NAME) -> di
     sections = [k for k in ("/**", node_name, f"/{node_name}") if k in doc]
     if not sections:
         raise ConfigurationError(
-            f"{where}: no section for node {node_name!r} (top-level keys: {', '.join(map(str, doc))})"
+            f"{where}: no section for node {node_name!r} "
+            f"(top-level keys: {', '.join(map(str, doc))})"
         )
     raw: dict[str, Any] = {}
     for key in sections:

@@ -128,7 +128,9 @@ class PeopleTracker:
             # Gate by making out-of-gate pairs too expensive to be worth taking.
             big = 1e6
             rows, cols = linear_sum_assignment(np.where(cost <= p.gate, cost, big))
-            assigned = {int(c): int(r) for r, c in zip(rows, cols, strict=True) if cost[r, c] <= p.gate}
+            assigned = {
+                int(c): int(r) for r, c in zip(rows, cols, strict=True) if cost[r, c] <= p.gate
+            }
         for j in range(z.shape[0]):
             if j in assigned:
                 track = self.tracks[assigned[j]]
