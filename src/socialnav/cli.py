@@ -151,6 +151,33 @@ def list_components() -> None:
         typer.echo(f"planner {name}: {PLANNERS.get(name).description}")
 
 
+@app.command("export-bag")
+def export_bag(
+    run_dir: Annotated[Path, typer.Argument(help="Folder written by `socialnav run`.")],
+    fmt: Annotated[str, typer.Option("--format", help="rosbag2 storage: mcap or sqlite3.")] = (
+        "mcap"
+    ),
+    out: Annotated[Path | None, typer.Option(help="Bag folder; default RUN_DIR/bag.")] = None,
+    overwrite: Annotated[bool, typer.Option(help="Replace an existing bag folder.")] = False,
+) -> None:
+    """Export a run as a rosbag2 (map, odom frame, plans, people) for RViz, Foxglove, ros2 bag."""
+    from socialnav.experiments.storage import EPISODE_FILE, load_episode
+    from socialnav.integrations.rosbag import export_rosbag
+
+    if fmt not in ("mcap", "sqlite3"):
+        _fail(f"unknown bag format {fmt!r}; use mcap or sqlite3")
+    if not (run_dir / EPISODE_FILE).is_file():
+        _fail(f"{run_dir}: not a run folder (no {EPISODE_FILE}); write one with `socialnav run`")
+    record = load_episode(run_dir)
+    target = out if out is not None else run_dir / "bag"
+    try:
+        path = export_rosbag(record, target, storage=fmt, overwrite=overwrite)  # type: ignore[arg-type]
+    except (FileExistsError, ImportError, ValueError) as exc:
+        _fail(str(exc))
+        return
+    typer.echo(f"wrote {path}")
+
+
 # --- ROS 2 --------------------------------------------------------------------------------
 
 
