@@ -161,3 +161,14 @@ def test_ros2_command_checks_the_params_file_first(tmp_path: Path) -> None:
     path = write(tmp_path, "socialnav:\n  ros__parameters:\n    max_vel_x: -1.0\n")
     result = CliRunner().invoke(app, ["ros2", "--params", str(path)])
     assert result.exit_code == 2 and "max_vel_x" in result.output
+
+
+def test_readme_params_example_is_a_valid_params_file(tmp_path: Path) -> None:
+    import re
+
+    readme = (Path(__file__).resolve().parents[2] / "README.md").read_text()
+    section = readme.split("## On a robot", 1)[1].split("\n## ", 1)[0]
+    (block,) = re.findall(r"```yaml\n(.*?)```", section, re.S)
+    values = load_params_file(write(tmp_path, block))
+    assert values["planner"] == "paccet" and robot_from_params(values).name == "pioneer"
+    assert "socialnav ros2 --params" in section and "pip install 'socialnav[ros]'" in section
