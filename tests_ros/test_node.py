@@ -19,6 +19,7 @@ from rclpy.parameter import Parameter
 from rclpy.qos import DurabilityPolicy, QoSProfile, qos_profile_sensor_data
 
 from socialnav.core.robot import PIONEER
+from socialnav.core.scene import Person
 from socialnav.integrations.ros2.node import SocialNavNode
 
 LATCHED = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL)
@@ -174,3 +175,27 @@ def test_stale_input_stops_within_the_limits(graph, stale: str) -> None:
     assert np.all(steps[:, 0] <= PIONEER.acc_lim_x * 2 * period + 1e-9), steps[:, 0]
     errors = [d for d in diags if d.level == DiagnosticStatus.ERROR]
     assert errors and f"{stale} older than" in errors[-1].message
+
+
+@pytest.mark.parametrize("good", [True, False])
+def test_context_file_is_read_at_configure(tmp_path, good: bool) -> None:
+    path = tmp_path / "context.yaml"
+    path.write_text("groups:\n  - members: [[1, 1], [2, 1]]\n" if good else "groups: 3\n")
+    rclpy.init()
+    node = SocialNavNode(
+        parameter_overrides=[
+            Parameter("autostart", value=False),
+            Parameter("social_context_file", value=str(path)),
+        ]
+    )
+    try:
+        result = node.trigger_configure()
+        if good:
+            assert result == TransitionCallbackReturn.SUCCESS
+            social = node.context_file.resolve((Person(1, (1.0, 1.1)), Person(2, (2.0, 0.9))))
+            assert social.groups[0].member_ids == (1, 2)
+        else:
+            assert result == TransitionCallbackReturn.FAILURE and node.state == "unconfigured"
+    finally:
+        node.destroy_node()
+        rclpy.try_shutdown()

@@ -36,9 +36,12 @@ Decisions:
 - There is no tf listener (the ROS wheels carry no tf2): odometry, goals and people must be in
   ``global_frame`` or in ``odom_frame``, placed by the fixed ``odom_to_global`` transform.
   Messages in other frames are refused with a throttled error.
-- The planner is rebuilt (``build_navigator``) on a new goal, a new map, a parameter change and
-  when the number of people in view changes between 0, 1, 2 and 3 or more (the objective set is
-  fixed when a navigator is built).
+- Groups, queues and artworks come from ``social_context_file`` (:mod:`.context`): structures
+  placed by their members' positions and attached to the tracked people every cycle.
+- The planner is rebuilt (``build_navigator``) on a new goal, a new map, a parameter change, when
+  the number of people in view changes between 0, 1, 2 and 3 or more, and when the groups,
+  queues or viewed artworks in view change (the objective set is fixed when a navigator is
+  built).
 - Weights (``path_distance_bias``, ``goal_distance_bias``, ``occdist_scale``, ``heading_scale``)
   and tolerances (``xy_goal_tolerance``, ``yaw_goal_tolerance``) may change at run time; every
   other parameter is read-only once declared.
@@ -71,6 +74,7 @@ from visualization_msgs.msg import Marker, MarkerArray
 from socialnav.core.errors import SocialNavError
 from socialnav.core.geometry import FloatArray
 from socialnav.core.scene import SocialContext
+from socialnav.integrations.ros2.context import ContextFile, load_context_file
 from socialnav.integrations.ros2.convert import (
     compose,
     costmap_from_occupancy,
@@ -260,6 +264,11 @@ class SocialNavNode(LifecycleNode):  # type: ignore[misc]
         self.robot = robot_from_params(self.values)
         self.planner_params = local_planner_params(self.values)
         self.period = 1.0 / float(self.values["controller_frequency"])
+        self.context_file: ContextFile | None = None
+        if self.values["social_context_file"]:
+            self.context_file = load_context_file(
+                self.values["social_context_file"], self.values["social_match_radius"]
+            )
         self.tracker = PeopleTracker(
             TrackerParams(
                 gate=self.values["people_gate"],
@@ -299,7 +308,7 @@ class SocialNavNode(LifecycleNode):  # type: ignore[misc]
         self.goal: FloatArray | None = None
         self.navigator: Any = None
         self._dirty = True
-        self._people_signature = -1
+        self._people_signature: tuple[int, ...] = ()
         self._odom: tuple[FloatArray, FloatArray, float, Any] | None = None
         self._odom_rx = -math.inf
         self._people_rx = -math.inf
@@ -418,8 +427,13 @@ class SocialNavNode(LifecycleNode):  # type: ignore[misc]
         assert self._odom is not None
         pose, velocity, t, stamp = self._odom
         start = wall.perf_counter()
-        social = SocialContext(self.tracker.people(time=t))
-        signature = min(len(social.people), 3)
+        people = self.tracker.people(time=t)
+        if self.context_file is None:
+            social = SocialContext(people)
+            signature: tuple[int, ...] = (min(len(people), 3),)
+        else:
+            social = self.context_file.resolve(people)
+            signature = (min(len(people), 3), *self.context_file.signature(social))
         if self._dirty or self.navigator is None or signature != self._people_signature:
             self.navigator = build_navigator(
                 str(self.values["planner"]),

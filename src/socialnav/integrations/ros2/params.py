@@ -168,6 +168,18 @@ _NODE: tuple[ParamSpec, ...] = (
     ParamSpec("person_radius", 0.25, "m, radius of every detected person", 0.05, 2.0),
     ParamSpec("inflation_radius", 0.55, "m, costmap inflation radius", 0.0, 10.0),
     ParamSpec("cost_scaling_factor", 10.0, "costmap inflation decay rate, 1/m", 0.01, 100.0),
+    ParamSpec(
+        "social_context_file",
+        "",
+        'YAML file of groups, queues and artworks by member position; "" = none',
+    ),
+    ParamSpec(
+        "social_match_radius",
+        0.75,
+        "m, farthest a tracked person may stand from a structure's member position",
+        0.05,
+        5.0,
+    ),
     ParamSpec("publish_candidates", True, "publish every candidate on socialnav/candidates"),
     ParamSpec("autostart", True, "configure and activate at start (retry activation every second)"),
 )
