@@ -13,7 +13,7 @@ from __future__ import annotations
 import math
 import sys
 
-import rclpy
+from _spin import run
 from geometry_msgs.msg import Twist, TwistStamped
 from nav_msgs.msg import Odometry
 from rclpy.node import Node
@@ -84,15 +84,7 @@ class FakeBase(Node):
 
 
 def main() -> None:
-    rclpy.init()
-    node = FakeBase(sys.argv[1], float(sys.argv[2]), "--stamped" in sys.argv)
-    try:
-        rclpy.spin(node)
-    except (KeyboardInterrupt, rclpy.executors.ExternalShutdownException):
-        pass
-    finally:
-        node.destroy_node()
-        rclpy.try_shutdown()
+    run(lambda: FakeBase(sys.argv[1], float(sys.argv[2]), "--stamped" in sys.argv))
 
 
 if __name__ == "__main__":

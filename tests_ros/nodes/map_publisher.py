@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import sys
 
-import rclpy
+from _spin import run
 from nav_msgs.msg import OccupancyGrid
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
@@ -38,15 +38,7 @@ class MapPublisher(Node):
 
 
 def main() -> None:
-    rclpy.init()
-    node = MapPublisher(sys.argv[1])
-    try:
-        rclpy.spin(node)
-    except (KeyboardInterrupt, rclpy.executors.ExternalShutdownException):
-        pass
-    finally:
-        node.destroy_node()
-        rclpy.try_shutdown()
+    run(lambda: MapPublisher(sys.argv[1]))
 
 
 if __name__ == "__main__":

@@ -12,7 +12,7 @@ from __future__ import annotations
 import math
 import sys
 
-import rclpy
+from _spin import run
 from geometry_msgs.msg import Pose, PoseArray, PoseStamped
 from rclpy.node import Node
 from rclpy.qos import qos_profile_sensor_data
@@ -50,15 +50,7 @@ class PeoplePublisher(Node):
 
 
 def main() -> None:
-    rclpy.init()
-    node = PeoplePublisher(*(float(a) for a in sys.argv[1:6]))
-    try:
-        rclpy.spin(node)
-    except (KeyboardInterrupt, rclpy.executors.ExternalShutdownException):
-        pass
-    finally:
-        node.destroy_node()
-        rclpy.try_shutdown()
+    run(lambda: PeoplePublisher(*(float(a) for a in sys.argv[1:6])))
 
 
 if __name__ == "__main__":

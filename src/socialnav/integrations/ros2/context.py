@@ -33,12 +33,12 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-import yaml
 from scipy.optimize import linear_sum_assignment
 
 from socialnav.core.errors import ConfigurationError, SocialNavError
 from socialnav.core.geometry import FloatArray
 from socialnav.core.scene import Artwork, Group, Person, Queue, SocialContext
+from socialnav.integrations.ros2.params import read_yaml_file
 
 __all__ = ["ContextFile", "load_context_file"]
 
@@ -115,14 +115,7 @@ def load_context_file(path: str | Path, match_radius: float = 0.75) -> ContextFi
     """Read and validate a context file; :class:`ConfigurationError` names file and field."""
     path = Path(path)
     where = str(path)
-    if not path.is_file():
-        raise ConfigurationError(f"{where}: no such context file")
-    if path.stat().st_size > MAX_CONTEXT_FILE_BYTES:
-        raise ConfigurationError(f"{where}: larger than {MAX_CONTEXT_FILE_BYTES} bytes")
-    try:
-        doc = yaml.safe_load(path.read_text()) or {}
-    except (yaml.YAMLError, UnicodeDecodeError) as exc:
-        raise ConfigurationError(f"{where}: not valid YAML ({exc})") from None
+    doc = read_yaml_file(path, "context file", MAX_CONTEXT_FILE_BYTES) or {}
     if not isinstance(doc, dict):
         raise ConfigurationError(f"{where}: expected a mapping with groups, queues, artworks")
     unknown = set(doc) - {"groups", "queues", "artworks"}

@@ -275,6 +275,20 @@ def _flatten(prefix: str, node: Any, out: dict[str, Any]) -> None:
         out[prefix] = node
 
 
+def read_yaml_file(path: Path, what: str, max_bytes: int = MAX_PARAMS_FILE_BYTES) -> Any:
+    """The YAML document in ``path``; :class:`ConfigurationError` (naming the file) when it is
+    missing, larger than ``max_bytes`` (refused before parsing) or not YAML."""
+    where = str(path)
+    if not path.is_file():
+        raise ConfigurationError(f"{where}: no such {what}")
+    if path.stat().st_size > max_bytes:
+        raise ConfigurationError(f"{where}: larger than {max_bytes} bytes")
+    try:
+        return yaml.safe_load(path.read_text())
+    except (yaml.YAMLError, UnicodeDecodeError) as exc:
+        raise ConfigurationError(f"{where}: not valid YAML ({exc})") from None
+
+
 def load_params_file(path: str | Path, node_name: str = DEFAULT_NODE_NAME) -> dict[str, Value]:
     """The validated parameters of ``node_name`` in a Nav2-style params file.
 
@@ -284,14 +298,7 @@ def load_params_file(path: str | Path, node_name: str = DEFAULT_NODE_NAME) -> di
     """
     path = Path(path)
     where = str(path)
-    if not path.is_file():
-        raise ConfigurationError(f"{where}: no such params file")
-    if path.stat().st_size > MAX_PARAMS_FILE_BYTES:
-        raise ConfigurationError(f"{where}: larger than {MAX_PARAMS_FILE_BYTES} bytes")
-    try:
-        doc = yaml.safe_load(path.read_text())
-    except (yaml.YAMLError, UnicodeDecodeError) as exc:
-        raise ConfigurationError(f"{where}: not valid YAML ({exc})") from None
+    doc = read_yaml_file(path, "params file")
     if not isinstance(doc, dict):
         raise ConfigurationError(f"{where}: expected a mapping '<node>: ros__parameters: ...'")
     sections = [k for k in ("/**", node_name, f"/{node_name}") if k in doc]
