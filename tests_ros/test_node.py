@@ -199,3 +199,19 @@ def test_context_file_is_read_at_configure(tmp_path, good: bool) -> None:
     finally:
         node.destroy_node()
         rclpy.try_shutdown()
+
+
+def test_topics_are_remappable() -> None:
+    rclpy.init()
+    node = SocialNavNode(
+        cli_args=["--ros-args", "-r", "odom:=/wheel/odom", "-r", "cmd_vel:=/base/cmd_vel"],
+        parameter_overrides=[Parameter("autostart", value=False)],
+    )
+    try:
+        assert node.trigger_configure() == TransitionCallbackReturn.SUCCESS
+        assert "/wheel/odom" in [sub.topic_name for sub in node._subs]
+        assert node._pubs["cmd_vel"].topic_name == "/base/cmd_vel"
+        assert node._pubs["plan"].topic_name == "/plan"
+    finally:
+        node.destroy_node()
+        rclpy.try_shutdown()
