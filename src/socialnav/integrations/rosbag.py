@@ -629,7 +629,10 @@ def export_rosbag(
                 ns,
                 t["geometry_msgs/msg/PoseArray"](
                     header=header,
-                    poses=[m.pose(*people_xy[k, j], people_q[j]) for j in range(len(ids))],
+                    poses=[
+                        m.pose(people_xy[k, j, 0], people_xy[k, j, 1], people_q[j])
+                        for j in range(len(ids))
+                    ],
                 ),
             )
             write(
@@ -642,7 +645,12 @@ def export_rosbag(
                             "people",
                             marker_ids[j],
                             "CYLINDER",
-                            m.pose(*people_xy[k, j], people_q[j], z=0.5 * PERSON_HEIGHT),
+                            m.pose(
+                                people_xy[k, j, 0],
+                                people_xy[k, j, 1],
+                                people_q[j],
+                                z=0.5 * PERSON_HEIGHT,
+                            ),
                             m.vector3(2 * radii[j], 2 * radii[j], PERSON_HEIGHT),
                             m.color(0.2, 0.4, 0.9, 0.7),
                         )

@@ -144,17 +144,19 @@ def _structure(kind: str, item: dict[str, Any], at: str) -> _Structure:
         Group((0, 1), mode=mode)  # validates the mode
         return _Structure(kind, _points(item.get("members"), f"{at}.members", 2), {"mode": mode})
     if kind == "queue":
-        fields = {"service_point": _xy(item.get("service_point"), f"{at}.service_point")}
+        fields: dict[str, Any] = {
+            "service_point": _xy(item.get("service_point"), f"{at}.service_point")
+        }
         if "spacing" in item:
             fields["spacing"] = float(item["spacing"])
         Queue((0,), **fields)  # validates the numbers
         return _Structure(kind, _points(item.get("members"), f"{at}.members", 1), fields)
-    fields = {
+    art: dict[str, Any] = {
         "center": _xy(item.get("center"), f"{at}.center"),
         "width": float(item.get("width", 0.0)),
         "facing": float(item.get("facing", 0.0)),
     }
-    Artwork(**fields)  # validates width and finiteness
+    Artwork(**art)  # validates width and finiteness
     viewers = item.get("viewers") or []
     members = _points(viewers, f"{at}.viewers", 0) if viewers else np.zeros((0, 2))
-    return _Structure(kind, members, fields)
+    return _Structure(kind, members, art)

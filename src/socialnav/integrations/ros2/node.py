@@ -144,7 +144,7 @@ class SocialNavNode(LifecycleNode):  # type: ignore[misc]
     def __init__(self, node_name: str = DEFAULT_NODE_NAME, **kwargs: Any) -> None:
         super().__init__(node_name, **kwargs)
         spec = next(s for s in param_specs() if s.name == "robot_model")
-        model = self.declare_parameter(spec.name, spec.default, _descriptor(spec)).value
+        model: Any = self.declare_parameter(spec.name, spec.default, _descriptor(spec)).value
         self.specs = {s.name: s for s in param_specs(str(model))}
         for spec in self.specs.values():
             if spec.name != "robot_model":
