@@ -22,8 +22,10 @@ import rclpy
 from diagnostic_msgs.msg import DiagnosticArray
 from geometry_msgs.msg import PoseArray, PoseStamped, TwistStamped
 from nav_msgs.msg import Odometry
+from nav_msgs.msg import Path as PathMsg
 from rclpy.node import Node
 from rclpy.qos import qos_profile_sensor_data
+from visualization_msgs.msg import MarkerArray
 
 from socialnav.core.geometry import body_to_world, signed_distance_to_polygon
 from socialnav.core.robot import PIONEER
@@ -74,6 +76,15 @@ class Observer(Node):
         self.create_subscription(PoseArray, "people", self.on_people, qos_profile_sensor_data)
         self.create_subscription(TwistStamped, "cmd_vel", self.on_cmd, 10)
         self.create_subscription(DiagnosticArray, "/diagnostics", self.on_diag, 10)
+        self.seen: dict[str, object] = {}
+        for topic, kind in (
+            ("plan", PathMsg),
+            ("local_plan", PathMsg),
+            ("social_goal", PoseStamped),
+            ("socialnav/candidates", MarkerArray),
+            ("socialnav/people", MarkerArray),
+        ):
+            self.create_subscription(kind, topic, lambda m, t=topic: self.seen.update({t: m}), 1)
 
     def now(self) -> float:
         return self.get_clock().now().nanoseconds * 1e-9
@@ -158,6 +169,15 @@ def test_loopback_hallway_passing(tmp_path: Path) -> None:
     logs = "\n".join(f"--- {f.name}\n{f.read_text()[-2000:]}" for f in tmp_path.glob("*.log"))
     assert goal_sent_at < math.inf, f"the node never became active\n{logs}"
     assert obs.status == "GOAL_REACHED", f"no goal within {BUDGET_S} s ({obs.status})\n{logs}"
+    assert set(obs.seen) == {
+        "plan",
+        "local_plan",
+        "social_goal",
+        "socialnav/candidates",
+        "socialnav/people",
+    }
+    end = obs.seen["plan"].poses[-1].pose.position
+    assert math.hypot(end.x - GOAL[0], end.y - GOAL[1]) < 0.1
     final = obs.poses[-1]
     assert np.hypot(final[0] - GOAL[0], final[1] - GOAL[1]) <= 0.15
     assert obs.min_center >= 1.2, obs.min_center

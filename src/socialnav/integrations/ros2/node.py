@@ -452,7 +452,7 @@ class SocialNavNode(LifecycleNode):  # type: ignore[misc]
         self.last_status = status
         record = result.record
         header = Header(stamp=stamp, frame_id=self.values["global_frame"])
-        self._publish_plans(header, pose, velocity, result.cmd, record)
+        self._publish_plans(header, pose, velocity, result)
         self._publish_people(header, social)
         if record is not None and self.values["publish_candidates"]:
             self._publish_candidates(header, pose, velocity, record)
@@ -505,18 +505,20 @@ class SocialNavNode(LifecycleNode):  # type: ignore[misc]
         )
 
     def _publish_plans(
-        self, header: Header, pose: FloatArray, velocity: FloatArray, cmd: FloatArray, record: Any
+        self, header: Header, pose: FloatArray, velocity: FloatArray, result: Any
     ) -> None:
         path = self.navigator.global_path
         if path is not None:
             self._pubs["plan"].publish(self._path_msg(header, path))
-        local = rollout(
-            pose, velocity, np.asarray(cmd).reshape(1, 3), self.robot, self.planner_params
-        )
+        cmd = np.asarray(result.cmd, dtype=float).reshape(1, 3)
+        local = rollout(pose, velocity, cmd, self.robot, self.planner_params)
         poses = local.poses[0]
         self._pubs["local_plan"].publish(self._path_msg(header, poses[:, :2], poses[:, 2]))
-        if record is not None:
-            g = np.asarray(record.goal, dtype=float)
+        target = result.target
+        if target is None and result.record is not None:
+            target = result.record.goal
+        if target is not None:
+            g = np.asarray(target, dtype=float)
             self._pubs["social_goal"].publish(
                 PoseStamped(header=header, pose=_pose_msg(g[0], g[1], g[2]))
             )
