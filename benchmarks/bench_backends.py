@@ -47,6 +47,18 @@ def comparable(rows: list[dict]) -> list[dict]:
     return [{k: same(v) for k, v in r.items() if k not in TIMING_COLUMNS} for r in rows]
 
 
+def differences(a: list[dict], b: list[dict]) -> list[str]:
+    """``run_id: column`` for every cell that differs (timing columns excluded)."""
+    if len(a) != len(b):
+        return [f"{len(a)} rows against {len(b)}"]
+    out = []
+    for x, y in zip(a, b, strict=True):
+        for key in sorted(set(x) | set(y)):
+            if x.get(key) != y.get(key):
+                out.append(f"{x.get('run_id')}: {key} {x.get(key)!r} vs {y.get(key)!r}")
+    return out
+
+
 def timed(specs: list[EpisodeSpec], backend: str, workers: int) -> tuple[float, list[dict]]:
     with tempfile.TemporaryDirectory() as folder:
         start = time.perf_counter()
@@ -70,7 +82,8 @@ def main() -> None:
         errors = sum(1 for r in rows if r.get("error"))
         if reference is None:
             reference = comparable(rows)
-        same = "yes" if comparable(rows) == reference else "NO"
+        diff = differences(reference, comparable(rows))
+        same = "yes" if not diff else f"NO ({'; '.join(diff[:5])})"
         print(
             f"  ran {backend} × {workers}: {seconds:.1f} s, {errors} errors, same rows: {same}",
             flush=True,
