@@ -6,7 +6,7 @@ import difflib
 import json
 from collections.abc import Sequence
 from pathlib import Path
-from typing import Any
+from typing import Any, Literal
 
 import numpy as np
 from matplotlib.figure import Figure
@@ -116,7 +116,8 @@ def run_single(
         from socialnav.viz.animation import animate_episode
 
         frames = fan_frames(result.diagnostics)
-        animate_episode(record, frames or None, out / f"episode.{video}", fmt=video)
+        kind: Literal["gif", "mp4"] = "gif" if video == "gif" else "mp4"
+        animate_episode(record, frames or None, out / f"episode.{video}", fmt=kind)
     return {
         "scenario": record.scenario,
         "planner": planner,

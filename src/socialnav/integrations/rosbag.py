@@ -459,7 +459,8 @@ def export_rosbag(
                             marker_ids[j],
                             "CYLINDER",
                             m.pose(
-                                *people_xy[k, j],
+                                float(people_xy[k, j, 0]),
+                                float(people_xy[k, j, 1]),
                                 np.array([0.0, 0.0, 0.0, 1.0]),
                                 z=0.5 * PERSON_HEIGHT,
                             ),

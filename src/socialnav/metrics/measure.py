@@ -26,6 +26,7 @@ class EpisodeMeasurement:
 
     @property
     def success(self) -> bool:
+        """Whether every required condition passed."""
         return all(c.passed for c in self.conditions if c.required)
 
     def passed(self) -> dict[str, bool]:
