@@ -167,14 +167,3 @@ def test_compare_rejects_an_unknown_suite(tmp_path: Path) -> None:
     result = invoke("compare", "--suite", "papr", "--out", str(tmp_path / "r"))
     assert result.exit_code != 0
     assert "papr" in result.stderr
-
-
-def test_version_is_the_package_version() -> None:
-    from importlib.metadata import version
-
-    import socialnav
-
-    result = invoke("--version")
-    assert result.exit_code == 0
-    assert result.stdout.strip() == f"socialnav {socialnav.__version__}"
-    assert socialnav.__version__ == version("socialnav")  # defined once, read by the build

@@ -92,14 +92,14 @@ def run_spec(
     started = time.perf_counter()
     try:
         from socialnav.experiments.planners import run_planner_episode
-        from socialnav.metrics import compute_metrics
-        from socialnav.metrics.success import evaluate_success
+        from socialnav.metrics import measure_episode
 
         result = run_planner_episode(spec)
         record = result.record
-        row.update({metric_column(k): float(v) for k, v in compute_metrics(record).items()})
+        measured = measure_episode(record)
+        row.update({metric_column(k): float(v) for k, v in measured.metrics.items()})
         # overall success is the metric ``success``: stored once
-        conditions = {k: v for k, v in evaluate_success(record).items() if k != "success"}
+        conditions = {k: v for k, v in measured.passed().items() if k != "success"}
         row.update({condition_column(k): bool(v) for k, v in conditions.items()})
         row["family"] = record.family
         row["steps"] = record.num_steps
