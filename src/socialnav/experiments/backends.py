@@ -86,21 +86,21 @@ def _dask(
 
     cluster = None
     if address is None:
-        cluster = LocalCluster(
+        cluster = LocalCluster(  # type: ignore[no-untyped-call]
             n_workers=_workers(n_jobs),
             threads_per_worker=1,
             processes=True,
             dashboard_address=None,
         )
-    client = Client(cluster if cluster is not None else address)
+    client = Client(cluster if cluster is not None else address)  # type: ignore[no-untyped-call]
     try:
         # pure=False: two equal specs are two episodes, never one cached result
         futures = [client.submit(fn, item, *args, pure=False) for item in items]
-        for future in as_completed(futures):
+        for future in as_completed(futures):  # type: ignore[no-untyped-call]
             yield future.result()
             future.release()
     finally:
-        client.close()
+        client.close()  # type: ignore[no-untyped-call]
         if cluster is not None:
             cluster.close()
 
