@@ -20,7 +20,7 @@ from socialnav.core.robot import PR2
 from socialnav.integrations.navground_behavior import ROBOT_FIELDS, SocialNavBehavior
 from socialnav.integrations.planner_options import our_planners, planner_options
 from socialnav.planner.local_planner import LocalPlannerParams
-from socialnav.sim.controller import CONTROLLERS
+from socialnav.sim.controller import CONTROLLERS, controller_names
 
 h5py = pytest.importorskip("h5py")
 
@@ -104,11 +104,13 @@ def test_loading_only_the_entry_point_registers_every_planner_of_ours() -> None:
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     names = out.stdout.strip().split(",")
+    ours = [n for n in controller_names() if CONTROLLERS.get(n).kind != "navground"]
+    assert names == ours
     assert {"traditional", "proxemic_layer", "weighted_social", "paccet_paper", "paccet"} <= set(
         names
     )
     assert "go_to_goal" in names
-    assert not {"ORCA", "HL", "SocialForce"} & set(names)
+    assert not {"orca", "hl", "social_force"} & set(names)  # navground's own behaviours
 
 
 def test_every_planner_option_and_robot_field_is_a_typed_property_with_its_default() -> None:

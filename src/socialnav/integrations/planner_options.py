@@ -20,7 +20,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from socialnav.core.errors import ConfigurationError
-from socialnav.sim.controller import CONTROLLERS, ControllerFactory
+from socialnav.sim.controller import CONTROLLERS, ControllerFactory, controller_names
 
 __all__ = ["PlannerOption", "build_planner", "our_planners", "planner_options"]
 
@@ -51,11 +51,10 @@ def _register_all() -> None:
 
 
 def our_planners() -> list[str]:
-    """Names of every registered controller of ours (sorted)."""
+    """Names of every registered controller of ours (not ``kind="navground"``), in the
+    registry's display order."""
     _register_all()
-    from socialnav.sim.baselines import NAVGROUND_BEHAVIORS
-
-    return [n for n in CONTROLLERS.names() if n not in NAVGROUND_BEHAVIORS]
+    return [n for n in controller_names() if CONTROLLERS.get(n).kind != "navground"]
 
 
 def _scalar(annotation: Any) -> type | None:
@@ -107,7 +106,7 @@ def planner_options(planners: list[str] | None = None) -> dict[str, PlannerOptio
     """
     found: dict[str, PlannerOption] = {}
     for planner in our_planners() if planners is None else planners:
-        for name, ftype, default, group in _factory_options(CONTROLLERS.get(planner)):
+        for name, ftype, default, group in _factory_options(CONTROLLERS.get(planner).factory):
             old = found.get(name)
             if old is None:
                 found[name] = PlannerOption(name, ftype, default, group, (planner,))
@@ -130,7 +129,7 @@ def build_planner(planner: str, values: Mapping[str, Any]) -> Any:
     """
     if planner not in our_planners():
         raise ConfigurationError(CONTROLLERS.unknown_message(planner))
-    factory = CONTROLLERS.get(planner)
+    factory = CONTROLLERS.get(planner).factory
     kwargs: dict[str, Any] = {}
     for name, ftype, _default, group in _factory_options(factory):
         if name not in values:

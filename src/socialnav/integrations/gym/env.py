@@ -63,11 +63,13 @@ from socialnav.core.scene import SocialContext
 from socialnav.integrations.gym.reward import RewardConfig, SocialGeometry, reward_terms
 from socialnav.integrations.gym.scenes import ScenarioPool, SceneSource
 from socialnav.metrics.success import SPOT_FAMILIES, SPOT_TOLERANCE
-from socialnav.sim.controller import ControlOutput, clamp_to_robot
+from socialnav.planner.local_planner import PlannerResult, PlannerStatus
+from socialnav.sim.controller import clamp_to_robot
 from socialnav.sim.engine import ControllerBehavior, SimWorld, build_world, pose_of
 from socialnav.sim.recorder import EpisodeRecorder, StaticGeometry, context_at, person_collisions
-from socialnav.sim.runner import STOP_EPS, resolve_target
+from socialnav.sim.runner import STOP_EPS
 from socialnav.sim.scenario import Scenario
+from socialnav.sim.target import resolve_target
 from socialnav.social.spaces import activity_space_polygon, o_space, queue_band_polygons
 
 __all__ = ["SocialNavEnv"]
@@ -86,8 +88,8 @@ class _ActionController:
 
     def step(
         self, time: float, pose: FloatArray, velocity: FloatArray, social: SocialContext
-    ) -> ControlOutput:
-        return ControlOutput(self.cmd.copy(), "OK")
+    ) -> PlannerResult:
+        return PlannerResult(self.cmd.copy(), PlannerStatus.OK)
 
 
 def _rotation(yaw: float) -> FloatArray:

@@ -1,7 +1,8 @@
 """Policies for the socialnav environments: our planners, and a random baseline.
 
-A :class:`PlannerPolicy` runs a planner of ours (any registered controller: ``paccet``,
-``traditional``, …) inside the environment. Like ``socialnav compare``, it plans on the
+A :class:`PlannerPolicy` runs any registered controller (our presets ``paccet``,
+``traditional``, …; navground's ``hl``, ``orca``, … wrapped as controllers) inside the
+environment. Like ``socialnav compare``, it plans on the
 scenario's map and the people's true state (``SocialNavEnv.planner_input``), not on the
 observation vector — the comparison a learned policy has to win is against the planner as it is
 deployed, with its map and tracker. :class:`RandomPolicy` samples the action space.
@@ -13,6 +14,8 @@ from typing import Any
 
 import numpy as np
 
+import socialnav.sim.baselines
+import socialnav.sim.stack  # noqa: F401  (importing both registers every controller)
 from socialnav.sim.controller import CONTROLLERS, clamp_to_robot
 
 __all__ = ["PlannerPolicy", "RandomPolicy"]
@@ -25,7 +28,7 @@ class PlannerPolicy:
     def __init__(self, env: Any, planner: str = "paccet", **params: Any) -> None:
         self.env = env.unwrapped
         self.name = planner
-        self.factory = CONTROLLERS.get(planner)
+        self.factory = CONTROLLERS.get(planner).factory
         self.params = params
         self.controller: Any = None
         self.last_status = ""
@@ -38,7 +41,7 @@ class PlannerPolicy:
         if self.controller is None:
             self.reset()
         out = self.controller.step(*self.env.planner_input())
-        self.last_status = out.status
+        self.last_status = str(out.status)
         return clamp_to_robot(out.cmd, self.env.robot).astype(np.float32)
 
 
