@@ -276,7 +276,7 @@ class _SocialNavBase(ControllerBehavior):
 
     # -- the control step -------------------------------------------------------------------
 
-    def compute_cmd_internal(self, time_step: float) -> core.Twist2:
+    def compute_cmd_internal(self, time_step: float) -> core.Twist2:  # type: ignore[override]
         goal, tolerance, any_yaw = self._target_goal()
         if goal is None:
             self.last_output, self.last_cmd = None, np.zeros(3)

@@ -76,7 +76,7 @@ def _dataclass_of(annotation: Any) -> type | None:
 
 def _factory_options(factory: ControllerFactory) -> list[tuple[str, type, Any, str | None]]:
     target = factory.func if hasattr(factory, "func") else factory  # functools.partial
-    init = target.__init__ if isinstance(target, type) else target
+    init = target.__init__ if isinstance(target, type) else target  # type: ignore[misc]
     hints = typing.get_type_hints(init)
     out: list[tuple[str, type, Any, str | None]] = []
     for name, param in inspect.signature(factory).parameters.items():

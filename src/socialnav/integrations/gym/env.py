@@ -172,7 +172,7 @@ class SocialNavEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         if self.costmap_cells:
             shape = (self.costmap_cells, self.costmap_cells)
             obs["costmap"] = spaces.Box(0, 255, shape=shape, dtype=np.uint8)
-        self.observation_space = spaces.Dict(obs)
+        self.observation_space = spaces.Dict(obs)  # type: ignore[assignment]
 
         self.scenario: Scenario | None = None
         self._sim: SimWorld | None = None
@@ -340,7 +340,7 @@ class SocialNavEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
             tolerance = max(tolerance, SPOT_TOLERANCE)
         stopped = bool(np.all(np.abs(self._cmd) < STOP_EPS))
         facing = abs(wrap_angle(float(self._target.pose[2]) - float(pose[2]))) <= self.yaw_tolerance
-        succeeded = distance <= tolerance and facing and stopped and not collided
+        succeeded = bool(distance <= tolerance and facing and stopped and not collided)
         terminated = succeeded or (collided and self.terminate_on_collision)
         truncated = not terminated and self._time() >= float(scn.time_limit) - 1e-9
 
@@ -425,9 +425,13 @@ class SocialNavEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
     def render(self) -> np.ndarray | None:  # type: ignore[override]
         if self.render_mode != "rgb_array" or self._sim is None:
             return None
+        from matplotlib.backends.backend_agg import FigureCanvasAgg
+        from matplotlib.figure import Figure
+
         from socialnav.viz.topdown import plot_episode
 
         fig = plot_episode(self.episode_record(), legend=False, show_stats=False)
-        fig.canvas.draw()
-        image = np.asarray(fig.canvas.buffer_rgba())[..., :3].copy()  # type: ignore[attr-defined]
-        return image
+        assert isinstance(fig, Figure)
+        canvas = FigureCanvasAgg(fig)  # the figures are Agg-only (no pyplot state)
+        canvas.draw()
+        return np.asarray(canvas.buffer_rgba())[..., :3].copy()

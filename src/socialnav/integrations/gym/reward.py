@@ -74,7 +74,7 @@ class RewardConfig:
         Raises ``ValueError`` naming an unknown field or a non-finite value."""
         if value is None:
             return cls()
-        if isinstance(value, cls):
+        if isinstance(value, RewardConfig):
             return value
         known = {f.name for f in fields(cls)}
         unknown = sorted(set(value) - known)
