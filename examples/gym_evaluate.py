@@ -8,7 +8,9 @@ callable ``observation -> action`` with a ``reset()``. No training happens here.
 
 Prints one row per policy: episodes, success rate (``socialnav compare``'s success conditions),
 collisions per episode, mean time to goal (s) over successes, mean minimum distance to a person
-(m), mean personal-space compliance and the mean return.
+(m), mean personal-space compliance and the mean return. Every policy meets the same scenes (the
+same seeds). Episodes go on after a collision, as in ``socialnav compare``
+(``--terminate-on-collision`` ends them there, CrowdNav's rule and the env's default).
 """
 
 from __future__ import annotations
@@ -86,8 +88,9 @@ def main(argv: Sequence[str] | None = None) -> str:
     parser.add_argument("--first-seed", type=int, default=0)
     parser.add_argument("--robot", default="pr2")
     parser.add_argument("--scenario", default=None, help="one scenario of the env's pool")
+    parser.add_argument("--terminate-on-collision", action="store_true")
     args = parser.parse_args(argv)
-    env = gym.make(args.env, robot=args.robot)
+    env = gym.make(args.env, robot=args.robot, terminate_on_collision=args.terminate_on_collision)
     seeds = range(args.first_seed, args.first_seed + args.episodes)
     summaries = []
     for name in args.policies.split(","):
