@@ -253,13 +253,18 @@ def test_a_direction_target_makes_the_robot_drive_along_it() -> None:
         },
     }
     run = _run(experiment, seed=3)
-    x = np.asarray(run.poses)[:, 0, 0]
-    dx = np.diff(x)
-    dx[dx < -5] += 10.0  # the corridor is periodic in x
-    dx[dx > 5] -= 10.0
+    travelled = _progress_along_x(np.asarray(run.poses)[:, 0, 0], 10.0)
     direction = run.world.agents[0].behavior.target.direction
-    assert np.sign(dx.sum()) == np.sign(direction[0])
-    assert abs(dx.sum()) > 3.5  # ~0.55 m/s for 10 s, after the start
+    assert np.sign(travelled) == np.sign(direction[0])
+    assert abs(travelled) > 3.5  # ~0.55 m/s for 10 s, after the start
+
+
+def _progress_along_x(x: np.ndarray, period: float) -> float:
+    """Signed distance (m) travelled along x in a world periodic in x with ``period``."""
+    dx = np.diff(x)
+    dx[dx < -period / 2] += period
+    dx[dx > period / 2] -= period
+    return float(dx.sum())
 
 
 # -- navground's own command line ----------------------------------------------------------------
@@ -291,12 +296,16 @@ def _robot_collisions(group: h5py.Group, uid: int) -> int:
     return int(((collisions[:, 1] == uid) | (collisions[:, 2] == uid)).sum())
 
 
-@pytest.mark.slow
-def test_navground_run_cross_reaches_its_targets_without_collision(tmp_path: Path) -> None:
-    path = EXAMPLES / "cross.yaml"
+def _run_example(name: str, tmp_path: Path) -> tuple[h5py.Group, int, dict]:
+    path = EXAMPLES / name
     experiment = yaml.safe_load(path.read_text())
     run = _navground_run(path, tmp_path)
-    uid = _robot_index(run, experiment)
+    return run, _robot_index(run, experiment), experiment
+
+
+@pytest.mark.slow
+def test_navground_run_cross_reaches_its_targets_without_collision(tmp_path: Path) -> None:
+    run, uid, _ = _run_example("cross.yaml", tmp_path)
     events = np.asarray(run["task_events"][str(uid)])  # one row per target the task set
     reached = events[events[:, 0] > 0]
     assert len(reached) >= 1, "the SocialNav robot never reached a Cross target"
@@ -305,16 +314,10 @@ def test_navground_run_cross_reaches_its_targets_without_collision(tmp_path: Pat
 
 @pytest.mark.slow
 def test_navground_run_corridor_crosses_it_without_collision(tmp_path: Path) -> None:
-    path = EXAMPLES / "corridor.yaml"
-    experiment = yaml.safe_load(path.read_text())
-    run = _navground_run(path, tmp_path)
-    uid = _robot_index(run, experiment)
+    run, uid, experiment = _run_example("corridor.yaml", tmp_path)
     length = experiment["scenario"]["length"]
-    x = np.asarray(run["poses"])[:, uid, 0]
-    dx = np.diff(x)
-    dx[dx < -length / 2] += length
-    dx[dx > length / 2] -= length
-    assert abs(dx.sum()) >= length, "the SocialNav robot did not cross the corridor"
+    travelled = _progress_along_x(np.asarray(run["poses"])[:, uid, 0], length)
+    assert abs(travelled) >= length, "the SocialNav robot did not cross the corridor"
     assert _robot_collisions(run, uid) == 0
 
 
