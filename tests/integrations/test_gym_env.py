@@ -217,10 +217,14 @@ def test_reward_terms_against_hand_values() -> None:
         RewardConfig.from_any({"sucess_reward": 2.0})
 
 
-def test_the_vectorized_env_steps_every_copy() -> None:
-    envs = gym.make_vec("socialnav/SocialNav-v0", num_envs=2, vectorization_mode="sync")
+@pytest.mark.parametrize("mode", ["sync", pytest.param("async", marks=pytest.mark.slow)])
+def test_the_vectorized_env_steps_every_copy(mode: str) -> None:
+    envs = gym.make_vec("socialnav/SocialNav-v0", num_envs=2, vectorization_mode=mode)
     obs, _ = envs.reset(seed=[0, 1])
     assert obs["people"].shape == (2, 6, 5) and obs["goal"].shape == (2, 3)
+    single = gym.make("socialnav/SocialNav-v0")
+    first, _ = single.reset(seed=1)
+    np.testing.assert_array_equal(obs["people"][1], first["people"])  # copy 1 got seed 1
     envs.action_space.seed(0)
     for _ in range(5):
         obs, rewards, terminated, _truncated, _infos = envs.step(envs.action_space.sample())
