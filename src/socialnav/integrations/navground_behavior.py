@@ -315,11 +315,12 @@ class _SocialNavBase(ControllerBehavior):
 
 
 def _exec_body(namespace: dict[str, Any]) -> None:
-    namespace.update(_properties())
+    props = _properties()
+    namespace.update(props)
     namespace["__doc__"] = (
         "A navground behaviour running a planner of ours (see the module docstring).\n\n"
         "*State*: :py:class:`GeometricState`. *Registered properties*: "
-        + ", ".join(sorted(_properties()))
+        + ", ".join(sorted(props))
         + "."
     )
     namespace["__module__"] = __name__
