@@ -129,14 +129,23 @@ def test_the_same_seed_replays_the_episode_and_another_seed_does_not() -> None:
     assert a[0] != c[0] or not np.array_equal(a[1], c[1])
 
 
-def test_a_planner_policy_gets_the_record_and_metrics_socialnav_compare_gets() -> None:
-    scenario = load_scenario("hallway_passing").model_copy(update={"jitter": Jitter()})
+@pytest.mark.parametrize(
+    ("name", "planner"),
+    [
+        ("hallway_passing", "traditional"),
+        pytest.param("group_join", "paccet", marks=pytest.mark.slow),
+    ],
+)
+def test_a_planner_policy_gets_the_record_and_metrics_socialnav_compare_gets(
+    name: str, planner: str
+) -> None:
+    scenario = load_scenario(name).model_copy(update={"jitter": Jitter()})
     env = sg.SocialNavEnv(scenes=lambda rng: scenario)
-    steps = _rollout(env, sg.PlannerPolicy(env, "traditional"))
+    steps = _rollout(env, sg.PlannerPolicy(env, planner))
     _, _, terminated, truncated, info = steps[-1]
-    assert terminated and not truncated  # stopped at the goal
+    assert terminated and not truncated  # stopped at the (social) goal
     record = env.episode_record()
-    reference = run_episode(scenario, "traditional", "pr2", seed=0).record
+    reference = run_episode(scenario, planner, "pr2", seed=0).record
     assert info["success"] == evaluate_success(reference)
     assert record.num_steps == reference.num_steps
     np.testing.assert_allclose(record.robot_poses, reference.robot_poses, atol=1e-4)

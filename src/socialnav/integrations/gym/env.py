@@ -20,7 +20,9 @@ Spaces (all ``float32`` unless said; "robot frame": x forward, y left, origin at
   - ``goal (3,)``: the given goal ``(x, y, yaw)`` in the robot frame;
   - ``social_goal (4,)``: the target of the episode (the social goal where the scenario's
     structure yields one — a queue's tail, a group's free spot, the presenter spot — else the
-    goal) in the robot frame, and ``1`` if a social goal applies, else ``0``;
+    goal; resolved from the scenario at reset, ``socialnav.sim.target.resolve_target``, and the
+    target success is measured at) in the robot frame, and ``1`` if a social goal applies,
+    else ``0``;
   - ``people (N, 5)``: the ``N = max_people`` nearest people (nearest first): relative position
     ``(x, y)`` and velocity ``(vx, vy)`` (theirs minus the robot's) in the robot frame, and ``1``
     for a row that holds a person (rows beyond the people present are zeros);
@@ -29,9 +31,11 @@ Spaces (all ``float32`` unless said; "robot frame": x forward, y left, origin at
     window, row 0 at the lowest y), cells off the map ``255``.
 - ``reward``: :mod:`socialnav.integrations.gym.reward` (documented term by term).
 - ``terminated``: the robot stopped (``|cmd| < 1e-3``) at the target: within the success
-  tolerance (``goal_tolerance``; 0.3 m at least for a social spot) and facing its yaw within
-  ``yaw_tolerance`` (0.1 rad, ROS ``yaw_goal_tolerance``: a planner of ours that stops to
-  turn in place is not done), or — with ``terminate_on_collision`` (CrowdNav's rule) — it collided.
+  tolerance (``max(goal_tolerance, the reached_goal condition's tolerance)``: 0.3 m at least
+  for a social spot) and facing its yaw within the social goal's own yaw tolerance (0.25 rad)
+  or else ``yaw_tolerance`` (0.1 rad, ROS ``yaw_goal_tolerance``) — the tolerances our local
+  planner arrives with, so a planner that stops to turn in place is not done; or, with
+  ``terminate_on_collision`` (CrowdNav's rule), the robot collided.
 - ``truncated``: the scenario's time limit was reached.
 - ``info``: ``time``, ``scenario``, ``family``, ``reward_terms``; at the episode's end also
   ``metrics``, ``success`` (the conditions of ``socialnav compare``) and ``is_success``.
@@ -62,7 +66,6 @@ from socialnav.core.robot import ROBOT_MODELS, RobotModel
 from socialnav.core.scene import SocialContext
 from socialnav.integrations.gym.reward import RewardConfig, SocialGeometry, reward_terms
 from socialnav.integrations.gym.scenes import ScenarioPool, SceneSource
-from socialnav.metrics.success import SPOT_FAMILIES, SPOT_TOLERANCE
 from socialnav.planner.local_planner import PlannerResult, PlannerStatus
 from socialnav.sim.controller import clamp_to_robot
 from socialnav.sim.engine import ControllerBehavior, SimWorld, build_world, pose_of
@@ -70,6 +73,7 @@ from socialnav.sim.recorder import EpisodeRecorder, StaticGeometry, context_at, 
 from socialnav.sim.runner import STOP_EPS
 from socialnav.sim.scenario import Scenario
 from socialnav.sim.target import resolve_target
+from socialnav.social.resolve import resolve_social_goal
 from socialnav.social.spaces import activity_space_polygon, o_space, queue_band_polygons
 
 __all__ = ["SocialNavEnv"]
@@ -206,6 +210,14 @@ class SocialNavEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         self._recorder = EpisodeRecorder(
             self.robot.polygon, self._sim.people_ids, self._radii, self._static
         )
+        self._success_spec = scn.success_spec()
+        # Arrival as the reached_goal condition judges it: max(goal_tolerance, its tolerance).
+        reached = [c.tolerance for c in self._success_spec if c.name == "reached_goal"]
+        self._arrival_tolerance = max([float(scn.goal_tolerance)] + [t for t in reached if t])
+        # A social goal says when it counts as reached (as the local planner reads it).
+        goal = resolve_social_goal(self._social0, np.asarray(scn.goal, dtype=float), scn.start)
+        social_spot = goal is not None and not goal.is_waypoint
+        self._arrival_yaw = goal.yaw_tolerance if social_spot else self.yaw_tolerance
         self._costmap = scn.static_costmap(self.robot) if self.costmap_cells else None
         self._geometry = self._social_geometry()
         self._step = 0
@@ -335,11 +347,9 @@ class SocialNavEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         pose = pose_of(self._sim.robot)
         collided = self._collided(pose)
         distance = self._target_distance()
-        tolerance = float(scn.goal_tolerance)
-        if scn.family in SPOT_FAMILIES:
-            tolerance = max(tolerance, SPOT_TOLERANCE)
+        tolerance = self._arrival_tolerance
         stopped = bool(np.all(np.abs(self._cmd) < STOP_EPS))
-        facing = abs(wrap_angle(float(self._target.pose[2]) - float(pose[2]))) <= self.yaw_tolerance
+        facing = abs(wrap_angle(float(self._target.pose[2]) - float(pose[2]))) <= self._arrival_yaw
         succeeded = bool(distance <= tolerance and facing and stopped and not collided)
         terminated = succeeded or (collided and self.terminate_on_collision)
         truncated = not terminated and self._time() >= float(scn.time_limit) - 1e-9
@@ -411,10 +421,12 @@ class SocialNavEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
             goal_tolerance=float(scn.goal_tolerance),
             time_limit=float(scn.time_limit),
             family=scn.family,
+            success=self._success_spec,
             scenario=scn.name,
             context=self._social0,
             meta={
                 **self._meta,
+                "target_source": "scenario",
                 "robot": self.robot.name,
                 "humans": self.humans,
                 "engine": "gymnasium",
