@@ -216,8 +216,8 @@ class SocialNavEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         self._arrival_tolerance = max([float(scn.goal_tolerance)] + [t for t in reached if t])
         # A social goal says when it counts as reached (as the local planner reads it).
         goal = resolve_social_goal(self._social0, np.asarray(scn.goal, dtype=float), scn.start)
-        social_spot = goal is not None and not goal.is_waypoint
-        self._arrival_yaw = goal.yaw_tolerance if social_spot else self.yaw_tolerance
+        spot = goal is not None and not goal.is_waypoint
+        self._arrival_yaw = float(goal.yaw_tolerance) if goal and spot else self.yaw_tolerance
         self._costmap = scn.static_costmap(self.robot) if self.costmap_cells else None
         self._geometry = self._social_geometry()
         self._step = 0
