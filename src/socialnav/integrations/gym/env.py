@@ -321,7 +321,9 @@ class SocialNavEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
     def _collided(self, pose: FloatArray) -> bool:
         footprint = body_to_world(self.robot.polygon, pose)
         pos, _, _ = self._people()
-        if person_collisions(footprint, pos, self._radii):
+        # Only people whose disc reaches the robot's circumscribed disc can touch the footprint.
+        near = np.hypot(*(pos - pose[:2]).T) <= self._radii + self.robot.circumscribed_radius
+        if near.any() and person_collisions(footprint, pos[near], self._radii[near]):
             return True
         return self._static.collides(footprint, pose[:2], self.robot.circumscribed_radius)
 

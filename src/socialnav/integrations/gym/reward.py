@@ -98,9 +98,17 @@ class SocialGeometry:
 
 
 def _polygon_depth(footprint: FloatArray, polygons: tuple[FloatArray, ...]) -> float:
+    """Deepest penetration (m) of ``footprint (V, 2)`` into any of ``polygons`` [(4, 2)]."""
     if not polygons:
         return 0.0
-    return float(max(convex_overlap_depth(footprint, p) for p in polygons))
+    stacked = np.stack(polygons)  # (P, 4, 2): every band and activity space is a quadrilateral
+    # Bounding circles first: most steps the robot is nowhere near a band.
+    centres, fc = stacked.mean(axis=1), footprint.mean(axis=0)
+    reach = np.linalg.norm(stacked - centres[:, None], axis=2).max(axis=1)
+    near = np.hypot(*(centres - fc).T) <= reach + np.linalg.norm(footprint - fc, axis=1).max()
+    if not near.any():
+        return 0.0
+    return float(convex_overlap_depth(footprint[None], stacked[near]).max())
 
 
 def reward_terms(
