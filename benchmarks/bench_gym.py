@@ -43,43 +43,31 @@ def main() -> None:
     for name in ("hallway_oncoming", "group_join", "queue_rotated"):
         scn = load_scenario(name)
         extra = {"people": str(len(scn.people))}
-
-        def env(s=scn, **kw) -> SocialNavEnv:
-            return SocialNavEnv(scenes=lambda rng: s, **kw)
-
-        cases += [
+        variants = {
+            "env.step": SocialNavEnv(scenes=lambda rng, s=scn: s),
+            "env.step, no metrics": SocialNavEnv(scenes=lambda rng, s=scn: s, metrics_on_end=False),
+            "env.step + costmap": SocialNavEnv(scenes=lambda rng, s=scn: s, costmap_cells=64),
+        }
+        cases.append(
             Case(
                 name,
                 "run_episode",
                 lambda s=scn: run_episode(s, StandStill(), "pr2"),
                 repeats=3,
                 extra=extra,
-            ),
-            Case(
-                name,
-                "env.step",
-                lambda e=env(): episode(e),
-                repeats=3,
-                baseline="run_episode",
-                extra=extra,
-            ),
-            Case(
-                name,
-                "env.step, no metrics",
-                lambda e=env(metrics_on_end=False): episode(e),
-                repeats=3,
-                baseline="run_episode",
-                extra=extra,
-            ),
-            Case(
-                name,
-                "env.step + costmap",
-                lambda e=env(costmap_cells=64): episode(e),
-                repeats=3,
-                baseline="run_episode",
-                extra=extra,
-            ),
-        ]
+            )
+        )
+        for variant, env in variants.items():
+            cases.append(
+                Case(
+                    name,
+                    variant,
+                    lambda e=env: episode(e),
+                    repeats=3,
+                    baseline="run_episode",
+                    extra=extra,
+                )
+            )
     run_table(cases, "One 60 s episode (600 steps of 0.1 s), PR2, scripted people")
 
 
