@@ -30,7 +30,8 @@ What is honoured from navground:
   accepted, the goal is reached within ``min(xy_goal_tolerance, position_tolerance)``) is driven
   to by the planner; a direction target (navground's Corridor scenario) is followed through a goal
   ``direction_horizon`` metres ahead along it, moved forward whenever the robot has covered half
-  of it (or was wrapped by a periodic world); no target: the robot stops.
+  of it (or was wrapped by a periodic world); any other target (a velocity, an orientation
+  alone) or none: the robot stops.
 
 What the planner sees here differs from ``socialnav.sim.runner`` (the scenario's ground truth):
 people are navground's neighbours (no groups, queues or artworks are known), walls and disc
