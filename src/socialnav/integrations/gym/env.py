@@ -436,7 +436,7 @@ class SocialNavEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
             },
         )
 
-    def render(self) -> np.ndarray | None:  # type: ignore[override]
+    def render(self) -> np.ndarray | None:
         if self.render_mode != "rgb_array" or self._sim is None:
             return None
         from matplotlib.backends.backend_agg import FigureCanvasAgg
@@ -447,5 +447,5 @@ class SocialNavEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         fig = plot_episode(self.episode_record(), legend=False, show_stats=False)
         assert isinstance(fig, Figure)
         canvas = FigureCanvasAgg(fig)  # the figures are Agg-only (no pyplot state)
-        canvas.draw()
-        return np.asarray(canvas.buffer_rgba())[..., :3].copy()
+        canvas.draw()  # type: ignore[no-untyped-call]
+        return np.asarray(canvas.buffer_rgba())[..., :3].copy()  # type: ignore[no-untyped-call]

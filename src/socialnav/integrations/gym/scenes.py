@@ -16,8 +16,9 @@ from pathlib import Path
 import numpy as np
 
 from socialnav.core.errors import ConfigurationError
+from socialnav.core.success import FAMILIES
 from socialnav.experiments.planners import RANDOMIZED_JITTER
-from socialnav.sim.scenario import FAMILIES, Scenario, builtin_scenarios, load_scenario
+from socialnav.sim.scenario import Scenario, builtin_scenarios, load_scenario
 
 __all__ = ["FAMILY_GROUPS", "ScenarioPool", "SceneSource"]
 
@@ -46,9 +47,9 @@ class ScenarioPool:
         randomize: bool = True,
     ) -> None:
         if families is not None:
-            unknown = sorted(set(families) - set(FAMILIES))
+            unknown = sorted(set(families) - set(FAMILIES.names()))
             if unknown:
-                raise ConfigurationError(f"unknown families {unknown}; known: {list(FAMILIES)}")
+                raise ConfigurationError(f"unknown families {unknown}; known: {FAMILIES.names()}")
         names = list(scenarios) if scenarios is not None else builtin_scenarios()
         loaded = [load_scenario(n) for n in names]
         if families is not None:
