@@ -4,7 +4,9 @@ Our planners (as privileged policies: they plan on the map and the people's true
 ``socialnav compare``) beside a random policy; a learned policy plugs in the same way — any
 callable ``observation -> action`` with a ``reset()``. No training happens here.
 
-    python examples/gym_evaluate.py --episodes 5 --policies random,traditional,paccet
+    python examples/gym_evaluate.py   # 2 hallway episodes: random, traditional, paccet
+    python examples/gym_evaluate.py --env socialnav/SocialNav-v0 --episodes 5 \
+        --policies random,traditional,paccet,hl
 
 Prints one row per policy: episodes, success rate (``socialnav compare``'s success conditions),
 collisions per episode, mean time to goal (s) over successes, mean minimum distance to a person
@@ -82,9 +84,9 @@ def table(summaries: list[dict[str, Any]]) -> str:
 
 def main(argv: Sequence[str] | None = None) -> str:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--env", default="socialnav/SocialNav-v0")
+    parser.add_argument("--env", default="socialnav/SocialNavHallway-v0")
     parser.add_argument("--policies", default="random,traditional,paccet")
-    parser.add_argument("--episodes", type=int, default=5)
+    parser.add_argument("--episodes", type=int, default=2)
     parser.add_argument("--first-seed", type=int, default=0)
     parser.add_argument("--robot", default="pr2")
     parser.add_argument("--scenario", default=None, help="one scenario of the env's pool")
