@@ -14,19 +14,11 @@ from __future__ import annotations
 
 import numpy as np
 
+from bench_sim import StandStill
 from harness import Case, run_table
 from socialnav.integrations.gym import SocialNavEnv
-from socialnav.planner.local_planner import PlannerResult, PlannerStatus
 from socialnav.sim.runner import run_episode
 from socialnav.sim.scenario import load_scenario
-
-
-class StandStill:
-    def reset(self, scenario, robot) -> None:
-        pass
-
-    def step(self, time, pose, velocity, social) -> PlannerResult:
-        return PlannerResult(np.zeros(3), PlannerStatus.OK)
 
 
 def episode(env: SocialNavEnv) -> None:
