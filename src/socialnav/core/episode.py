@@ -22,6 +22,10 @@ class EpisodeRecord:
     People:
       ``people_ids (K,)``, ``people_positions (T, K, 2)``, ``people_velocities (T, K, 2)``,
       ``people_radii (K,)``; ``context`` holds groups, queues and artworks at the start.
+      People present for part of an episode (replayed crowds): their positions and velocities
+      are NaN at the samples where they are absent, and ``people_present (T, K)`` bool is the
+      mask (by default: where the position is finite). Metrics and figures ignore absent
+      samples (a distance to an absent person is ``+inf``).
     Task:
       ``start (3,)``; ``goal (3,)`` the goal the robot was given; ``target (3,)`` the pose at which
       success is measured (the social goal where the scenario has one, else ``goal``);
@@ -60,6 +64,7 @@ class EpisodeRecord:
     collision_obstacle: np.ndarray | None = None
     status: np.ndarray | None = None
     meta: dict[str, Any] = field(default_factory=dict)
+    people_present: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         steps = self.times.shape[0]
@@ -69,6 +74,8 @@ class EpisodeRecord:
             self.collision_obstacle = np.zeros(steps, dtype=bool)
         if self.status is None:
             self.status = np.full(steps, "OK", dtype=object)
+        if self.people_present is None:
+            self.people_present = np.isfinite(self.people_positions).all(axis=-1)
         k = self.people_ids.shape[0]
         expected = {
             "robot_poses": (steps, 3),
@@ -76,6 +83,7 @@ class EpisodeRecord:
             "people_positions": (steps, k, 2),
             "people_velocities": (steps, k, 2),
             "people_radii": (k,),
+            "people_present": (steps, k),
             "collision_person": (steps,),
             "collision_obstacle": (steps,),
             "status": (steps,),

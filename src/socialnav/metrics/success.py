@@ -11,7 +11,8 @@ Every family:
   (``gallery_present``, ``queue``, ``group``) it is ``max(goal_tolerance, 0.3)``, so that a
   robot ending inside the 0.3 m spot radius of scenarios.md counts as arrived whatever the
   planner's own (tighter) goal tolerance was.
-- ``no_collision``: no sample flagged in ``collision_person`` or ``collision_obstacle``.
+- ``no_collision``: no sample flagged in ``collision_person`` or ``collision_obstacle``
+  (family ``crowd``: no obstacle contact and no *active* person contact, see below).
 
 Per family (``record.family``):
 - ``hallway``: ``no_personal_space_intrusion`` — the centre-to-centre distance to every person
@@ -28,6 +29,11 @@ Per family (``record.family``):
 - ``group``: ``at_free_spot`` (final |p - target| <= 0.3 m), ``facing_centre`` (final heading
   within 0.5 rad of the bearing to the group centre) and ``outside_o_space`` (the robot *centre*
   never inside the disc of radius R - 0.3; see ``metrics.scenario`` for why the centre).
+
+- ``crowd`` (replayed recorded pedestrians, who never yield): ``no_active_collision`` — no
+  contact event with the robot moving toward the person (``metrics.crowd``); a passive
+  contact (someone walked into the stopped or retreating robot) is reported as
+  ``no_passive_contact``, *not required* (SocNavBench / Francis et al. conventions).
 
 ``evaluate_success`` returns every condition (required or not) plus ``"success"`` = all
 *required* conditions. A record whose family needs a queue, group or viewed artwork that its
@@ -54,7 +60,7 @@ from socialnav.metrics.scenario import (
 from socialnav.metrics.series import closest_distance, reached_within_limit
 from socialnav.social.proxemics import PERSONAL
 
-FAMILIES = ("hallway", "gallery_present", "gallery_activity", "queue", "group")
+FAMILIES = ("hallway", "gallery_present", "gallery_activity", "queue", "group", "crowd")
 SPOT_TOLERANCE = 0.3  # m, scenarios.md
 HEADING_TOLERANCE = 0.5  # rad, this library's choice (scenarios.md: "facing")
 PERSONAL_SPACE_OPTIONAL = frozenset({"hallway_headon"})
@@ -88,11 +94,13 @@ def success_conditions(record: EpisodeRecord) -> list[Condition]:
     tolerance = record.goal_tolerance
     if record.family in SPOT_FAMILIES:
         tolerance = max(tolerance, SPOT_TOLERANCE)
+    family = record.family
+    if family == "crowd":
+        return _crowd_conditions(record, tolerance)
     out = [
         Condition("reached_goal", reached_within_limit(record, tolerance)),
         Condition("no_collision", not collided),
     ]
-    family = record.family
     if family == "hallway":
         ok = bool(np.all(closest_distance(record) >= PERSONAL))
         required = record.scenario not in PERSONAL_SPACE_OPTIONAL
@@ -120,6 +128,18 @@ def success_conditions(record: EpisodeRecord) -> list[Condition]:
             Condition("outside_o_space", outside),
         ]
     return out
+
+
+def _crowd_conditions(record: EpisodeRecord, tolerance: float) -> list[Condition]:
+    from socialnav.metrics.crowd import contact_events
+
+    events = contact_events(record)
+    return [
+        Condition("reached_goal", reached_within_limit(record, tolerance)),
+        Condition("no_obstacle_collision", not bool(np.any(record.collision_obstacle))),
+        Condition("no_active_collision", not any(active for *_, active in events)),
+        Condition("no_passive_contact", not events, required=False),
+    ]
 
 
 def evaluate_success(record: EpisodeRecord) -> dict[str, bool]:

@@ -6,11 +6,15 @@
   ``Bounded`` state estimation. These are the peers a navground user would pick.
 - ``go_to_goal``: :class:`GoToGoalController`, a proportional law straight at the goal that
   ignores everyone — a lower bound and the test controller of the simulator.
+- ``straight_line``: the crowd suite's reference (SocNavBench's "how crowded is this
+  episode"): the start→goal line at full speed, no planner, ignoring everyone, stopping at the
+  goal (:class:`GoToGoalController` with an unbounded gain).
 """
 
 from __future__ import annotations
 
 import math
+from functools import partial
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -120,3 +124,6 @@ class GoToGoalController:
 
 
 CONTROLLERS.add("go_to_goal", GoToGoalController)
+#: gain (1/s) so large that the speed saturates at the robot's limit until the goal
+STRAIGHT_LINE_GAIN = 1.0e6
+CONTROLLERS.add("straight_line", partial(GoToGoalController, gain=STRAIGHT_LINE_GAIN))
