@@ -6,22 +6,15 @@ from pathlib import Path
 
 import pytest
 
-DATA = Path(__file__).resolve().parents[2] / ".." / "shared" / "data" / "crowds"
-
-
-def shared_file(name: str) -> Path:
-    path = DATA / name
-    if not path.is_file():
-        pytest.skip(f"shared dataset {name} not available")
-    return path
+from shared import crowd_data
 
 
 @pytest.fixture
 def hotel_slice(tmp_path: Path) -> Path:
     """The first 400 rows of ETH hotel (its first ~100 s), with its group list beside it."""
-    src = shared_file("eth_hotel_obsmat.txt")
+    src = crowd_data("eth_hotel_obsmat.txt")
     out = tmp_path / "hotel_obsmat.txt"
     out.write_text("".join(src.read_text().splitlines(keepends=True)[:400]))
-    groups = shared_file("eth_hotel_groups.txt")
+    groups = crowd_data("eth_hotel_groups.txt")
     (tmp_path / "hotel_groups.txt").write_text(groups.read_text())
     return out
