@@ -89,3 +89,14 @@ def test_our_planner_runs_in_a_replayed_crowd(planner: str) -> None:
     r = run_crowd_episode(crowd(), TASK, planner, "pioneer").record
     assert r.num_steps > 10
     assert np.isfinite(r.robot_poses).all()
+
+
+def test_partial_presence_survives_storage(tmp_path) -> None:
+    from socialnav.experiments.storage import load_episode, save_episode
+
+    r = run_crowd_episode(crowd(), TASK, "straight_line", "pr2").record
+    back = load_episode(save_episode(r, tmp_path / "ep"))
+    np.testing.assert_array_equal(back.people_present, r.people_present)
+    np.testing.assert_allclose(back.people_positions, r.people_positions, equal_nan=True)
+    assert back.family == "crowd"
+    assert compute_metrics(back) == pytest.approx(compute_metrics(r), nan_ok=True)

@@ -23,9 +23,9 @@ class EpisodeRecord:
       ``people_ids (K,)``, ``people_positions (T, K, 2)``, ``people_velocities (T, K, 2)``,
       ``people_radii (K,)``; ``context`` holds groups, queues and artworks at the start.
       People present for part of an episode (replayed crowds): their positions and velocities
-      are NaN at the samples where they are absent, and ``people_present (T, K)`` bool is the
-      mask (by default: where the position is finite). Metrics and figures ignore absent
-      samples (a distance to an absent person is ``+inf``).
+      are NaN at the samples where they are absent; ``people_present (T, K)`` bool is that
+      mask (derived from the positions, so it can never disagree with them). Metrics and
+      figures ignore absent samples (a distance to an absent person is ``+inf``).
     Task:
       ``start (3,)``; ``goal (3,)`` the goal the robot was given; ``target (3,)`` the pose at which
       success is measured (the social goal where the scenario has one, else ``goal``);
@@ -64,7 +64,6 @@ class EpisodeRecord:
     collision_obstacle: np.ndarray | None = None
     status: np.ndarray | None = None
     meta: dict[str, Any] = field(default_factory=dict)
-    people_present: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         steps = self.times.shape[0]
@@ -74,8 +73,6 @@ class EpisodeRecord:
             self.collision_obstacle = np.zeros(steps, dtype=bool)
         if self.status is None:
             self.status = np.full(steps, "OK", dtype=object)
-        if self.people_present is None:
-            self.people_present = np.isfinite(self.people_positions).all(axis=-1)
         k = self.people_ids.shape[0]
         expected = {
             "robot_poses": (steps, 3),
@@ -83,7 +80,6 @@ class EpisodeRecord:
             "people_positions": (steps, k, 2),
             "people_velocities": (steps, k, 2),
             "people_radii": (k,),
-            "people_present": (steps, k),
             "collision_person": (steps,),
             "collision_obstacle": (steps,),
             "status": (steps,),
@@ -95,6 +91,11 @@ class EpisodeRecord:
     @property
     def num_steps(self) -> int:
         return int(self.times.shape[0])
+
+    @property
+    def people_present(self) -> np.ndarray:
+        """``(T, K)`` bool: where each person is present (their position is finite)."""
+        return np.isfinite(self.people_positions).all(axis=-1)
 
     @property
     def robot_xy(self) -> FloatArray:
