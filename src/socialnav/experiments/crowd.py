@@ -100,22 +100,24 @@ def cached_recording(path: str) -> Any:
     return load_recording(path)
 
 
+def crowd_controller(planner: str, record: bool = False) -> Any:
+    """The controller of a crowd run: the planner's (``experiments.planners``), or the
+    ``straight_line`` reference controller. Raises ConfigurationError for an unknown name."""
+    from socialnav.experiments.planners import planner_controller
+
+    return REFERENCE if planner == REFERENCE else planner_controller(planner, record)
+
+
 def run_crowd_planner(spec: CrowdSpec, record_diagnostics: bool = False) -> Any:
     """Run one crowd episode with its planner; the episode generator's task is in the meta."""
     from socialnav.crowds.episodes import generate_episode
-    from socialnav.experiments.planners import PLANNERS
     from socialnav.sim.replay import CrowdTask, run_crowd_episode
     from socialnav.sim.stack import StackController
 
     recording = cached_recording(spec.data)
     episode = generate_episode(recording, spec.seed)
     task = CrowdTask(episode.t0, episode.start, episode.goal, episode.time_limit)
-    controller: Any = spec.planner
-    if spec.planner != REFERENCE:
-        entry = PLANNERS.get(spec.planner)
-        controller = entry.behavior
-        if entry.preset is not None:
-            controller = StackController(entry.preset, record=record_diagnostics)
+    controller = crowd_controller(spec.planner, record_diagnostics)
     result = run_crowd_episode(
         recording,
         task,
@@ -197,25 +199,18 @@ def run_crowd_single(
     import math
 
     from socialnav.crowds import load_recording
-    from socialnav.experiments.planners import PLANNERS
     from socialnav.experiments.run import check_robot
     from socialnav.experiments.storage import save_episode
     from socialnav.metrics import compute_metrics, evaluate_success
     from socialnav.sim.replay import CrowdTask, run_crowd_episode
-    from socialnav.sim.stack import StackController
     from socialnav.viz.crowd import plot_crowd_episodes
     from socialnav.viz.topdown import save_figure
 
-    if planner != REFERENCE:
-        PLANNERS.get(planner)
+    controller = crowd_controller(planner)
     check_robot(robot)
     recording = load_recording(data)
     yaw = math.atan2(goal[1] - start[1], goal[0] - start[0])
     task = CrowdTask(float(t0), (*start, yaw), (*goal, yaw), time_limit)
-    controller: Any = planner
-    if planner != REFERENCE:
-        entry = PLANNERS.get(planner)
-        controller = entry.behavior if entry.preset is None else StackController(entry.preset)
     result = run_crowd_episode(recording, task, controller, robot, switch_distance=switch_distance)
     record = result.record
     record.meta["planner"] = planner

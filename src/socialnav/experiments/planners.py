@@ -45,19 +45,26 @@ PLANNERS.add(
 )
 
 
+def planner_controller(name: str, record: bool = False) -> Any:
+    """What drives the robot for planner ``name``: a fresh :class:`StackController` for our
+    presets (``record`` keeps per-cycle records), the navground behaviour's name otherwise.
+    Raises ConfigurationError for an unknown name."""
+    entry = PLANNERS.get(name)
+    if entry.preset is not None:
+        return StackController(entry.preset, record=record)
+    return entry.behavior
+
+
 def run_planner_episode(spec: Any, record_diagnostics: bool = False) -> Any:
     """Run one :class:`~socialnav.experiments.suite.EpisodeSpec` with its planner."""
     from socialnav.sim.runner import run_episode
     from socialnav.sim.scenario import load_scenario
 
-    entry = PLANNERS.get(spec.planner)
     scenario = load_scenario(spec.scenario)
     if spec.randomize:
         scenario = scenario.model_copy(update={"jitter": RANDOMIZED_JITTER})
     robot = ROBOT_MODELS[spec.robot]
-    controller: Any = entry.behavior
-    if entry.preset is not None:
-        controller = StackController(entry.preset, record=record_diagnostics)
+    controller = planner_controller(spec.planner, record_diagnostics)
     # run_episode applies the scenario's jitter from the seed (a no-op for unjittered scenarios).
     result = run_episode(
         scenario,

@@ -31,11 +31,10 @@ from socialnav.core.scene import HUMAN_RADIUS, Person, SocialContext
 from socialnav.crowds.recording import Recording
 from socialnav.crowds.space import GRID_MARGIN, area_walls
 from socialnav.sim.baselines import NAVGROUND_BEHAVIORS, make_baseline
-from socialnav.sim.controller import GOAL_REACHED
 from socialnav.sim.engine import ControllerBehavior, build_world, pose_of
 from socialnav.sim.humans import SENSING_RANGE
 from socialnav.sim.recorder import EpisodeRecorder, StaticGeometry
-from socialnav.sim.runner import STOP_EPS, EpisodeResult, _controller, _robot_model
+from socialnav.sim.runner import EpisodeResult, _controller, _robot_model, advance
 from socialnav.sim.scenario import PersonSpec, Scenario
 
 #: where absent people wait (m), spaced so nobody is ever within sensing range of the scene
@@ -245,26 +244,10 @@ def run_crowd_episode(
                 _switch_to_hl(agents[j], recording.destination(int(ids[j])), speed)
         for j in np.flatnonzero(~switched):
             agents[j].behavior.step_index = k
-        if ctrl_behavior is not None:
-            social = _context(ids, now_pos, now_vel, now_yaw)
-            ctrl_behavior.observe = lambda _dt, t=t, social=social: (t, social)
-            simw.world.update(dt)
-            out = ctrl_behavior.last_output
-            cmd = ctrl_behavior.last_cmd
-            status = out.status if out is not None else "NO_CONTROLLER"
-            if record_diagnostics:
-                diagnostics.append(None if out is None else out.diagnostics)
-            done = status == GOAL_REACHED and bool(np.all(np.abs(cmd) < STOP_EPS))
-        else:
-            done = bool(simw.robot.task.done())
-            simw.world.update(dt)
-            last_cmd = simw.robot.get_last_cmd(core.Frame.relative)
-            cmd = np.array(
-                [last_cmd.velocity[0], last_cmd.velocity[1], last_cmd.angular_speed], dtype=float
-            )
-            status = GOAL_REACHED if done else "OK"
-            if record_diagnostics:
-                diagnostics.append(None)
+        social = _context(ids, now_pos, now_vel, now_yaw) if ctrl_behavior is not None else None
+        cmd, status, diag, done = advance(simw, ctrl_behavior, t, social, dt)
+        if record_diagnostics:
+            diagnostics.append(diag)
         recorder.add(t, pose, cmd, now_pos, now_vel, status)
         if done:
             reason = "goal_reached"

@@ -170,26 +170,10 @@ def run_episode(
         t = k * dt
         pose = pose_of(simw.robot)
         pos, vel, yaw = simw.people_state()
-        if ctrl_behavior is not None:
-            social = context_at(social0, pos, vel, yaw)
-            ctrl_behavior.observe = lambda _dt, t=t, social=social: (t, social)
-            simw.world.update(dt)
-            out = ctrl_behavior.last_output
-            cmd = ctrl_behavior.last_cmd
-            status = out.status if out is not None else "NO_CONTROLLER"
-            if record_diagnostics:
-                diagnostics.append(None if out is None else out.diagnostics)
-            done = status == GOAL_REACHED and bool(np.all(np.abs(cmd) < STOP_EPS))
-        else:
-            done = bool(simw.robot.task.done())
-            simw.world.update(dt)
-            last_cmd = simw.robot.get_last_cmd(core.Frame.relative)
-            cmd = np.array(
-                [last_cmd.velocity[0], last_cmd.velocity[1], last_cmd.angular_speed], dtype=float
-            )
-            status = GOAL_REACHED if done else "OK"
-            if record_diagnostics:
-                diagnostics.append(None)
+        social = context_at(social0, pos, vel, yaw) if ctrl_behavior is not None else None
+        cmd, status, diag, done = advance(simw, ctrl_behavior, t, social, dt)
+        if record_diagnostics:
+            diagnostics.append(diag)
         recorder.add(t, pose, cmd, pos, vel, status)
         if done:
             reason = "goal_reached"
@@ -219,6 +203,35 @@ def run_episode(
         },
     )
     return EpisodeResult(record, diagnostics, _time.perf_counter() - wall_start)
+
+
+def advance(
+    simw: SimWorld,
+    ctrl_behavior: ControllerBehavior | None,
+    t: float,
+    social: SocialContext | None,
+    dt: float,
+) -> tuple[FloatArray, str, Any, bool]:
+    """One control period: the controller (shown ``social`` at time ``t``) or the navground
+    baseline commands the robot, the world moves ``dt``. Returns the body command ``(3,)``, the
+    status, the controller's diagnostics and whether the episode is done (goal reached and the
+    robot stopped, or the baseline's task done)."""
+    if ctrl_behavior is not None:
+        seen = social if social is not None else SocialContext()
+        ctrl_behavior.observe = lambda _dt: (t, seen)
+        simw.world.update(dt)
+        out = ctrl_behavior.last_output
+        cmd = ctrl_behavior.last_cmd
+        status = out.status if out is not None else "NO_CONTROLLER"
+        done = status == GOAL_REACHED and bool(np.all(np.abs(cmd) < STOP_EPS))
+        return cmd, status, None if out is None else out.diagnostics, done
+    done = bool(simw.robot.task.done())
+    simw.world.update(dt)
+    last_cmd = simw.robot.get_last_cmd(core.Frame.relative)
+    cmd = np.array(
+        [last_cmd.velocity[0], last_cmd.velocity[1], last_cmd.angular_speed], dtype=float
+    )
+    return cmd, GOAL_REACHED if done else "OK", None, done
 
 
 def simulate_world(simw: SimWorld, steps: int, dt: float) -> None:
