@@ -59,6 +59,7 @@ def test_compare_crowds_slice(tmp_path: Path) -> None:
     assert "## Recording eth_hotel" in text
     table = next(t for t in md_tables(text) if t[0][0] == "planner")
     assert [row[0] for row in table[1:]] == ["paccet", "straight_line"]
+    assert all(len(row) == len(table[0]) for row in table)
     assert "`paccet` on pr2: met" in text
     assert (out / "figures" / "crowd_eth_hotel.png").stat().st_size > 10_000
 

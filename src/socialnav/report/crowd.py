@@ -127,6 +127,7 @@ def dataset_table(
                     s["success"],
                     s["active"],
                     s["passive"],
+                    s["any_contact"],
                     s["min_gap"],
                     s["t045"],
                     s["t12"],
