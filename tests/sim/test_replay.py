@@ -69,7 +69,7 @@ def test_people_do_not_react_unless_switched() -> None:
 def test_navground_baselines_see_replayed_people() -> None:
     # ORCA avoids person 3 coming head-on; the straight line does not.
     rec = crowd()
-    orca = compute_metrics(run_crowd_episode(rec, TASK, "ORCA", "pr2").record)
+    orca = compute_metrics(run_crowd_episode(rec, TASK, "orca", "pr2").record)
     line = compute_metrics(run_crowd_episode(rec, TASK, "straight_line", "pr2").record)
     assert orca["min_distance_footprint"] > line["min_distance_footprint"]
 

@@ -103,16 +103,16 @@ def cached_recording(path: str) -> Any:
 def crowd_controller(planner: str, record: bool = False) -> Any:
     """The controller of a crowd run: the planner's (``experiments.planners``), or the
     ``straight_line`` reference controller. Raises ConfigurationError for an unknown name."""
-    from socialnav.experiments.planners import planner_controller
+    from socialnav.sim.controller import make_controller
 
-    return REFERENCE if planner == REFERENCE else planner_controller(planner, record)
+    return make_controller(planner, record=record)
 
 
 def run_crowd_planner(spec: CrowdSpec, record_diagnostics: bool = False) -> Any:
     """Run one crowd episode with its planner; the episode generator's task is in the meta."""
     from socialnav.crowds.episodes import generate_episode
+    from socialnav.sim.controller import CONTROLLERS
     from socialnav.sim.replay import CrowdTask, run_crowd_episode
-    from socialnav.sim.stack import StackController
 
     recording = cached_recording(spec.data)
     episode = generate_episode(recording, spec.seed)
@@ -129,8 +129,8 @@ def run_crowd_planner(spec: CrowdSpec, record_diagnostics: bool = False) -> Any:
     )
     meta = result.record.meta
     meta.update({"planner": spec.planner, "flow": episode.flow, "people_near": episode.people_near})
-    if isinstance(controller, StackController) and controller.plan_seconds:
-        ms = np.asarray(controller.plan_seconds) * 1e3
+    if CONTROLLERS.get(spec.planner).kind == "stack" and result.step_seconds:
+        ms = np.asarray(result.step_seconds) * 1e3
         meta["planner_ms_median"] = float(np.median(ms))
         meta["planner_ms_p95"] = float(np.percentile(ms, 95))
         meta["planner_ms_steps"] = [round(float(v), 3) for v in ms]

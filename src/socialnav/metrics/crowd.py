@@ -20,6 +20,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from socialnav.core.episode import EpisodeRecord
+from socialnav.core.success import CONDITIONS, ConditionCheck
 from socialnav.metrics.base import MetricFn, metric
 from socialnav.metrics.series import footprint_gaps
 from socialnav.social.proxemics import INTIMATE, PERSONAL
@@ -91,3 +92,28 @@ def _time_within(threshold: float) -> MetricFn:
 
 metric("time_within_0.45", unit="s", direction="min", reference=FRANCIS)(_time_within(INTIMATE))
 metric("time_within_1.2", unit="s", direction="min", reference=FRANCIS)(_time_within(PERSONAL))
+
+
+def _no_active(record: EpisodeRecord, tolerance: float) -> bool:
+    return not any(active for *_, active in contact_events(record))
+
+
+def _no_passive(record: EpisodeRecord, tolerance: float) -> bool:
+    return not any(not active for *_, active in contact_events(record))
+
+
+def _no_obstacle(record: EpisodeRecord, tolerance: float) -> bool:
+    return not bool(np.any(record.collision_obstacle))
+
+
+for _name, _check in {
+    "no_active_collision": ConditionCheck(
+        _no_active, description="no contact with a person while moving toward them"
+    ),
+    "no_passive_contact": ConditionCheck(
+        _no_passive, description="nobody walked into the stopped or retreating robot"
+    ),
+    "no_obstacle_collision": ConditionCheck(_no_obstacle, description="no contact with walls"),
+}.items():
+    if _name not in CONDITIONS:
+        CONDITIONS.add(_name, _check)

@@ -98,9 +98,9 @@ def summary(rows: Sequence[dict[str, Any]]) -> dict[str, float]:
 
 def _order(planners: set[str]) -> list[str]:
     try:
-        from socialnav.experiments.planners import PLANNERS
+        from socialnav.experiments.planners import planner_names
 
-        known = [p for p in PLANNERS.names() if p in planners]
+        known = [p for p in planner_names() if p in planners and p != REFERENCE]
     except ImportError:  # pragma: no cover - the experiments layer is always there
         known = []
     rest = sorted(planners - set(known) - {REFERENCE})

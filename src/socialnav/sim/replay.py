@@ -30,11 +30,11 @@ from socialnav.core.geometry import FloatArray
 from socialnav.core.scene import HUMAN_RADIUS, Person, SocialContext
 from socialnav.crowds.recording import Recording
 from socialnav.crowds.space import GRID_MARGIN, area_walls
-from socialnav.sim.baselines import NAVGROUND_BEHAVIORS, make_baseline
+from socialnav.sim.controller import GOAL_REACHED
 from socialnav.sim.engine import ControllerBehavior, build_world, pose_of
 from socialnav.sim.humans import SENSING_RANGE
 from socialnav.sim.recorder import EpisodeRecorder, StaticGeometry
-from socialnav.sim.runner import EpisodeResult, _controller, _robot_model, advance
+from socialnav.sim.runner import STOP_EPS, EpisodeResult, _controller, _robot_model
 from socialnav.sim.scenario import PersonSpec, Scenario
 
 #: where absent people wait (m), spaced so nobody is ever within sensing range of the scene
@@ -162,8 +162,9 @@ def run_crowd_episode(
     switch_distance: float | None = None,
     controller_params: dict[str, Any] | None = None,
 ) -> EpisodeResult:
-    """Drive ``controller`` (a registered controller name, a Controller, or a navground behaviour
-    name, as in ``run_episode``) through ``recording`` from ``task.t0``.
+    """Drive ``controller`` (a registered controller name, a Controller or a factory, as in
+    ``run_episode``; navground behaviours are the ``orca``, ``hl``, ``social_force``
+    controllers) through ``recording`` from ``task.t0``.
 
     The record has family ``crowd``; its people are everyone present at some sample, in the
     recording's order, NaN where absent (``people_present`` is the mask). ``switch_distance``:
@@ -183,24 +184,12 @@ def run_crowd_episode(
     scn = crowd_scenario(recording, task, social0.people)
     empty = scn.model_copy(update={"people": []})
 
-    baseline = isinstance(controller, str) and controller in NAVGROUND_BEHAVIORS
-    if baseline:
-        behavior, nav_task = make_baseline(
-            controller,
-            model,
-            [np.asarray(task.goal[:2])],
-            float(task.goal[2]),
-            tolerance=0.5 * task.goal_tolerance,
-        )
-        simw = build_world(empty, model, behavior, robot_task=nav_task, sensing=True, seed=seed)
-        planner_name, ctrl_behavior = controller, None
-    else:
-        ctrl, planner_name = _controller(controller, controller_params)
-        ctrl.reset(scn, model)
-        ctrl_behavior = ControllerBehavior()
-        ctrl_behavior.controller = ctrl
-        ctrl_behavior.robot_model = model
-        simw = build_world(empty, model, ctrl_behavior, seed=seed)
+    ctrl, planner_name = _controller(controller, controller_params)
+    ctrl.reset(scn, model)
+    ctrl_behavior = ControllerBehavior()
+    ctrl_behavior.controller = ctrl
+    ctrl_behavior.robot_model = model
+    simw = build_world(empty, model, ctrl_behavior, seed=seed)
     agents = [_person_agent(j, int(pid), pos[:, j]) for j, pid in enumerate(ids)]
     for agent in agents:
         simw.world.add_agent(agent)
@@ -210,6 +199,7 @@ def run_crowd_episode(
     static = StaticGeometry(scn.walls_array(), (), np.zeros((0, 3)))
     recorder = EpisodeRecorder(model.polygon, ids, np.full(len(ids), HUMAN_RADIUS), static)
     diagnostics: list[Any] = []
+    step_seconds: list[float] = []
     reason = "time_limit"
     for k in range(last + 1):
         t = k * dt
@@ -244,10 +234,17 @@ def run_crowd_episode(
                 _switch_to_hl(agents[j], recording.destination(int(ids[j])), speed)
         for j in np.flatnonzero(~switched):
             agents[j].behavior.step_index = k
-        social = _context(ids, now_pos, now_vel, now_yaw) if ctrl_behavior is not None else None
-        cmd, status, diag, done = advance(simw, ctrl_behavior, t, social, dt)
+        social = _context(ids, now_pos, now_vel, now_yaw)
+        ctrl_behavior.observe = lambda _dt, t=t, social=social: (t, social)
+        started = _time.perf_counter()
+        simw.world.update(dt)
+        step_seconds.append(_time.perf_counter() - started)
+        out = ctrl_behavior.last_output
+        cmd = ctrl_behavior.last_cmd
+        status = out.status.value if out is not None else "NO_CONTROLLER"
         if record_diagnostics:
-            diagnostics.append(diag)
+            diagnostics.append(None if out is None else out.record)
+        done = status == GOAL_REACHED and bool(np.all(np.abs(cmd) < STOP_EPS))
         recorder.add(t, pose, cmd, now_pos, now_vel, status)
         if done:
             reason = "goal_reached"
@@ -277,4 +274,4 @@ def run_crowd_episode(
             "switched_people": [int(i) for i in ids[switched]],
         },
     )
-    return EpisodeResult(record, diagnostics, _time.perf_counter() - wall_start)
+    return EpisodeResult(record, diagnostics, _time.perf_counter() - wall_start, step_seconds)
