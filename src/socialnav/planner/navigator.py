@@ -92,6 +92,7 @@ class Navigator:
         self.reset()
 
     def reset(self) -> None:
+        """Forget the plan, latches and passed waypoints (a new episode)."""
         self.local_planner.reset()
         self._path: FloatArray | None = None
         self._path_target: FloatArray | None = None
@@ -103,6 +104,7 @@ class Navigator:
     def step(
         self, time: float, pose: ArrayLike, velocity: ArrayLike, social: SocialContext
     ) -> PlannerResult:
+        """The body twist for ``pose (3,)``, ``velocity (3,)`` at ``time`` (s); never raises."""
         try:
             return self._step(float(time), pose, velocity, social)
         except Exception as exc:  # the control loop must survive anything
