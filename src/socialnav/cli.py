@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
-from typing import Annotated
+from typing import Annotated, Any
 
 import typer
 
@@ -156,7 +156,9 @@ def _compare_crowds(
     typer.echo(f"{len(rows)} runs ({failed} errors) → {report}")
 
 
-def _run_with_progress(specs: list, out: Path, jobs: int, resume: bool, suite: str) -> list:
+def _run_with_progress(
+    specs: list[Any], out: Path, jobs: int, resume: bool, suite: str
+) -> list[dict[str, Any]]:
     from rich.progress import BarColumn, MofNCompleteColumn, Progress, TimeElapsedColumn
 
     from socialnav.experiments.suite import run_suite

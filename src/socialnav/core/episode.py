@@ -101,7 +101,7 @@ class EpisodeRecord:
     @property
     def people_present(self) -> np.ndarray:
         """``(T, K)`` bool: where each person is present (their position is finite)."""
-        return np.isfinite(self.people_positions).all(axis=-1)
+        return np.asarray(np.isfinite(self.people_positions).all(axis=-1), dtype=bool)
 
     @property
     def robot_xy(self) -> FloatArray:

@@ -128,7 +128,7 @@ def _tracks(df: pd.DataFrame, period: float, path: Path) -> tuple[Track, ...]:
     for pid, rows in df.groupby("id", sort=True):
         tracks.append(
             Track(
-                int(pid),  # type: ignore[call-overload]
+                int(pid),
                 rows["frame"].to_numpy(dtype=float) * period,
                 rows[["x", "y"]].to_numpy(dtype=float),
             )

@@ -59,10 +59,12 @@ class Track:
 
     @property
     def start_time(self) -> float:
+        """Time of the first sample (s)."""
         return float(self.times[0])
 
     @property
     def end_time(self) -> float:
+        """Time of the last sample (s)."""
         return float(self.times[-1])
 
 
@@ -107,6 +109,7 @@ class Area:
 
     @property
     def size(self) -> tuple[float, float]:
+        """``(width, height)`` of the area (m)."""
         return self.xmax - self.xmin, self.ymax - self.ymin
 
     def contains(self, xy: FloatArray, margin: float = 0.0) -> NDArray[np.bool_]:
@@ -157,6 +160,7 @@ class Recording:
 
     @property
     def name(self) -> str:
+        """The file's stem, or ``recording``."""
         return self.source.stem if self.source is not None else "recording"
 
     @property
@@ -165,14 +169,17 @@ class Recording:
         return np.array([tr.id for tr in self.tracks], dtype=np.int64)
 
     def track(self, person_id: int) -> Track:
+        """The track of ``person_id`` (raises KeyError for an unknown id)."""
         return self.tracks[self._index[int(person_id)]]
 
     @property
     def start_time(self) -> float:
+        """Time of the recording's first sample (s)."""
         return min(tr.start_time for tr in self.tracks)
 
     @property
     def end_time(self) -> float:
+        """Time of the recording's last sample (s)."""
         return max(tr.end_time for tr in self.tracks)
 
     @property

@@ -21,11 +21,12 @@ from __future__ import annotations
 
 import time as _time
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, SupportsFloat
 
 import numpy as np
 from navground import core, sim
 
+from socialnav.core.errors import ConfigurationError
 from socialnav.core.geometry import FloatArray
 from socialnav.core.scene import HUMAN_RADIUS, Person, SocialContext
 from socialnav.crowds.recording import Recording
@@ -70,7 +71,7 @@ class ReplayedHuman(core.Behavior):
         self.positions = np.zeros((0, 2))
         self.step_index = 0
 
-    def compute_cmd_internal(self, time_step: float) -> core.Twist2:
+    def compute_cmd_internal(self, time_step: SupportsFloat) -> core.Twist2:
         k = self.step_index + 1
         self.step_index = k
         dt = float(time_step)
@@ -139,6 +140,8 @@ def _person_agent(j: int, pid: int, positions: FloatArray) -> sim.Agent:
 
 def _switch_to_hl(agent: sim.Agent, destination: FloatArray, speed: float) -> None:
     behavior = core.Behavior.make_type("HL")
+    if behavior is None:  # pragma: no cover - navground always has HL
+        raise ConfigurationError("navground has no HL behaviour")
     cruise = max(float(speed), SWITCHED_MIN_SPEED)
     behavior.optimal_speed = cruise
     behavior.max_speed = cruise
@@ -174,7 +177,8 @@ def run_crowd_episode(
     model = _robot_model(robot)
     dt = float(task.control_period)
     last = round(task.time_limit / dt)
-    times = task.t0 + dt * np.arange(last + 2)  # one sample beyond the end: the last step's aim
+    # One sample beyond the end: where the last step aims.
+    times: FloatArray = task.t0 + dt * np.arange(last + 2, dtype=float)
     ids = recording.active_ids(float(times[0]), float(times[-1]))
     crowd = recording.states(times, ids)
     keep = crowd.present.any(axis=0)
@@ -207,7 +211,7 @@ def run_crowd_episode(
         now_pos, now_vel, now_yaw = pos[k].copy(), vel[k].copy(), head[k].copy()
         for j in np.flatnonzero(switched):
             a = agents[j]
-            if gone[j] or a.task.done():
+            if gone[j] or (a.task is not None and a.task.done()):
                 gone[j] = True
                 now_pos[j] = now_vel[j] = np.nan
                 now_yaw[j] = np.nan
@@ -217,7 +221,7 @@ def run_crowd_episode(
             now_yaw[j] = float(a.orientation)
         present = np.isfinite(now_pos).all(axis=1)
         for j in np.flatnonzero(~present):  # keep absent people parked, still
-            agents[j].pose = core.Pose2(_parking(j), 0.0)
+            agents[j].pose = core.Pose2(_parking(int(j)), 0.0)
             agents[j].twist = core.Twist2((0.0, 0.0), 0.0, frame=core.Frame.absolute)
         for j in np.flatnonzero(present & ~switched):
             agents[j].pose = core.Pose2((float(now_pos[j, 0]), float(now_pos[j, 1])), now_yaw[j])
@@ -233,7 +237,9 @@ def run_crowd_episode(
                 speed = float(np.nanmedian(np.hypot(*vel[:, j].T)))
                 _switch_to_hl(agents[j], recording.destination(int(ids[j])), speed)
         for j in np.flatnonzero(~switched):
-            agents[j].behavior.step_index = k
+            replayed = agents[j].behavior
+            if isinstance(replayed, ReplayedHuman):
+                replayed.step_index = k
         social = _context(ids, now_pos, now_vel, now_yaw)
         ctrl_behavior.observe = lambda _dt, t=t, social=social: (t, social)
         started = _time.perf_counter()

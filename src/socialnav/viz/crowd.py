@@ -47,9 +47,9 @@ def plot_crowd_episodes(
         )
         ax.plot(*rec.start[:2], "o", color=COLORS["start"], ms=5)
         ax.plot(*rec.goal[:2], "*", color=COLORS["goal"], ms=11)
-        for _, first, _, active in contact_events(rec):
+        for _, onset, _, active in contact_events(rec):
             ax.plot(
-                *rec.robot_xy[first], "x" if active else "+", color=COLORS["collision"], ms=9, mew=2
+                *rec.robot_xy[onset], "x" if active else "+", color=COLORS["collision"], ms=9, mew=2
             )
         lo = np.minimum(rec.robot_xy.min(axis=0), rec.goal[:2]) - 2.0
         hi = np.maximum(rec.robot_xy.max(axis=0), rec.goal[:2]) + 2.0
