@@ -21,7 +21,10 @@ in the file's key-value metadata ``socialnav_columns``, a JSON object by column)
 boolean ``ok_<condition>`` per success condition of the family (overall success is the metric
 ``success``, stored once); ``error`` (null when the episode ran) and the timing columns
 ``wall_time_s`` and ``planner_ms_median``, which are the only ones that differ between two runs of
-the same spec.
+the same spec. Crowd rows (``--suite crowds``) hold the recording ``data`` and
+``switch_distance`` in place of the scenario spec, the episode's ``t0``, ``flow``,
+``people_near`` and ``people_total``, and the timings ``planner_ms_p95`` and
+``planner_ms_steps`` (every cycle, so a report pools percentiles over steps).
 """
 
 from __future__ import annotations
@@ -45,9 +48,12 @@ FRAGMENT_PREFIX = "ep-"
 PARTITION_KEYS = ("suite", "planner", "robot")
 CONDITION_PREFIX = "ok_"
 TIMING_COLUMNS = ("wall_time_s", "planner_ms_median")
+#: the crowd suite's further timing columns (``socialnav.experiments.crowd``)
+CROWD_TIMING_COLUMNS = ("planner_ms_p95", "planner_ms_steps")
 _TIMING_META = {
     "wall_time_s": ("s", "min", "Wall-clock time of the whole episode on its worker."),
     "planner_ms_median": ("ms", "min", "Median time of one planning cycle (our planners only)."),
+    "planner_ms_p95": ("ms", "min", "95th percentile of the planning cycle (crowd suite)."),
 }
 LEGACY_FILE = "results.parquet"
 COLUMNS_KEY = "socialnav_columns"
@@ -85,6 +91,9 @@ def _field(name: str, values: list[Any], metrics: dict[str, pa.Field]) -> pa.Fie
         unit, direction, text = _TIMING_META[name]
         meta = {"unit": unit, "direction": direction, "description": text, "timing": "true"}
         return pa.field(name, pa.float64(), metadata=meta)
+    if name == "planner_ms_steps":  # a list per episode; typed, so empty lists unify
+        meta = {"unit": "ms", "description": "every planning cycle's time", "timing": "true"}
+        return pa.field(name, pa.list_(pa.float64()), metadata=meta)
     if name == "error":
         return pa.field(name, pa.string(), metadata={"description": "null when the episode ran"})
     if name.startswith(CONDITION_PREFIX):
@@ -128,10 +137,13 @@ def _write_atomic(table: pa.Table, path: Path) -> None:
 
 
 def _run_id(row: dict[str, Any]) -> str:
+    """The run id of a stored row, rebuilt from its spec columns (a crowd row has ``data``)."""
+    from socialnav.experiments.crowd import CrowdSpec
     from socialnav.experiments.suite import EpisodeSpec
 
-    names = {f.name for f in dataclasses.fields(EpisodeSpec)}
-    return EpisodeSpec(**{k: v for k, v in row.items() if k in names}).run_id
+    kind: type[EpisodeSpec] | type[CrowdSpec] = CrowdSpec if "data" in row else EpisodeSpec
+    names = {f.name for f in dataclasses.fields(kind)}
+    return kind(**{k: v for k, v in row.items() if k in names}).run_id
 
 
 class ResultStore:

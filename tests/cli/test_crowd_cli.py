@@ -1,0 +1,137 @@
+"""The crowd suite end to end through the CLI (a small slice: one reporting seed) on the
+results dataset every suite uses, and ``socialnav run --crowd``."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pyarrow.compute as pc
+import pyarrow.parquet as pq
+import pytest
+from typer.testing import CliRunner
+
+from shared import crowd_data, md_tables
+from socialnav.cli import app
+from socialnav.core.errors import ConfigurationError
+from socialnav.experiments.crowd import crowd_specs, parse_seeds
+from socialnav.experiments.results import ResultStore, load_results
+from socialnav.experiments.storage import load_episode
+
+
+def invoke(*args: str):
+    return CliRunner().invoke(app, [str(a) for a in args])
+
+
+def test_parse_seeds() -> None:
+    assert parse_seeds("3") == range(0, 3)
+    assert parse_seeds("10000:10050") == range(10000, 10050)
+    for bad in ("a", "5:5", "7:3", "-1:2"):
+        with pytest.raises(ConfigurationError, match="seeds"):
+            parse_seeds(bad)
+
+
+def test_every_crowd_suite_runs_the_straight_line_reference() -> None:
+    specs = crowd_specs(["a.txt", "b.txt"], ["paccet", "orca"], ["pr2"], range(2))
+    assert [s.planner for s in specs[::4]] == ["paccet", "straight_line", "orca"]
+    assert len({s.run_id for s in specs}) == len(specs) == 12
+
+
+def test_compare_crowds_slice(tmp_path: Path) -> None:
+    hotel = crowd_data("eth_hotel_obsmat.txt")
+    out = tmp_path / "report"
+    args = (
+        "compare",
+        "--suite",
+        "crowds",
+        "--data",
+        hotel,
+        "--seeds",
+        "10000:10001",
+        "--planners",
+        "paccet",
+        "--robots",
+        "pr2",
+        "--jobs",
+        "1",
+        "--out",
+        out,
+    )
+    result = invoke(*args)
+    assert result.exit_code == 0, result.output
+    assert "2 runs (0 errors)" in result.output
+    text = (out / "report.md").read_text()
+    assert "## Recording eth_hotel" in text
+    table = next(t for t in md_tables(text) if t[0][0] == "planner")
+    assert [row[0] for row in table[1:]] == ["paccet", "straight_line"]
+    assert all(len(row) == len(table[0]) for row in table)
+    assert "`paccet` on pr2: met" in text
+    assert (out / "figures" / "crowd_eth_hotel.png").stat().st_size > 10_000
+    # the same results dataset as every suite: partitioned, SQL-friendly names, null errors
+    rows = load_results(out, suite="crowds")
+    assert [(r["planner"], r["robot"]) for r in rows] == [
+        ("paccet", "pr2"),
+        ("straight_line", "pr2"),
+    ]
+    parts = sorted(p.relative_to(out).parts[:4] for p in (out / "results").rglob("*.parquet"))
+    assert parts[0] == ("results", "suite=crowds", "planner=paccet", "robot=pr2")
+    names = ResultStore(out).schema().names
+    assert all(n.isidentifier() for n in names)
+    assert {"time_within_1_2", "ok_reached_goal", "success"} <= set(names)
+    assert "ok_success" not in names and all(r["error"] is None for r in rows)
+    # the per-run trajectory is the long table: people absent at a step have no row there
+    run = out / "runs" / rows[0]["run_id"]
+    steps = pq.read_table(run / "trajectory.parquet")
+    record = load_episode(run)
+    people = steps.filter(pc.equal(steps["agent"], "person"))
+    assert people.num_rows == int(record.people_present.sum()) > 0
+    assert not record.people_present.all()  # people enter and leave the recording
+    # resuming runs nothing again; `socialnav report` rebuilds the same tables from the dataset
+    again = invoke(*args)
+    assert again.exit_code == 0 and "2 runs (0 errors)" in again.output
+    assert len(load_results(out, suite="crowds")) == 2
+    (out / "report.md").unlink()
+    rebuilt = invoke("report", out)
+    assert rebuilt.exit_code == 0, rebuilt.output
+    assert md_tables((out / "report.md").read_text()) == md_tables(text)
+    assert "data:image/png;base64," in (out / "report.html").read_text()
+
+
+def test_compare_crowds_needs_data_and_names_bad_files(tmp_path: Path) -> None:
+    result = invoke("compare", "--suite", "crowds", "--out", tmp_path)
+    assert result.exit_code == 2 and "--data" in result.output
+    bad = tmp_path / "bad_obsmat.txt"
+    bad.write_text("1 1 0 0 0 0 0 0\n2 1 0 0 zz 0 0 0\n")
+    result = invoke("compare", "--suite", "crowds", "--data", bad, "--out", tmp_path / "r")
+    assert result.exit_code == 2
+    assert "bad_obsmat.txt: line 2: column 5 (y)" in " ".join(result.output.split())
+
+
+def test_run_crowd_writes_every_file(tmp_path: Path) -> None:
+    zara = crowd_data("ucy_zara01_obsmat.txt")
+    out = tmp_path / "run"
+    result = invoke(
+        "run",
+        "--crowd",
+        zara,
+        "--t0",
+        "33.2",
+        "--start",
+        "-1.90",
+        "6.41",
+        "--goal",
+        "-4.25",
+        "16.78",
+        "--planner",
+        "straight_line",
+        "--out",
+        out,
+    )
+    assert result.exit_code == 0, result.output
+    summary = json.loads(result.output)
+    assert summary["people"] > 5
+    metrics = json.loads((out / "metrics.json").read_text())
+    assert {"collisions_active", "time_within_1.2", "success_conditions"} <= metrics.keys()
+    assert (out / "trajectory.parquet").is_file() and (out / "topdown.png").is_file()
+    result = invoke("run", "--crowd", zara, "--out", out)
+    assert result.exit_code == 2 and "--start" in result.output
