@@ -119,6 +119,29 @@ def test_dask_cluster_gives_the_same_rows(local, tmp_path: Path) -> None:
     assert comparable(load_results(tmp_path)) == comparable(load_results(local[0]))
 
 
+def test_the_crowd_suite_gives_the_same_rows_on_dask(tmp_path: Path) -> None:
+    """Crowd runs go through the same backends and dataset (the reference controller: fast)."""
+    pytest.importorskip("distributed")
+    from shared import crowd_data
+    from socialnav.experiments.crowd import crowd_specs
+    from socialnav.experiments.results import CROWD_TIMING_COLUMNS
+
+    hotel = str(crowd_data("eth_hotel_obsmat.txt"))
+    specs = crowd_specs([hotel], ["straight_line"], ["pr2"], range(10000, 10002))
+    local = run_suite(specs, tmp_path / "local", n_jobs=1, suite="crowds")
+    dask = run_suite(specs, tmp_path / "dask", n_jobs=2, suite="crowds", backend="dask")
+
+    def strip(rows: list[dict]) -> list[dict]:
+        return comparable(
+            [{k: v for k, v in r.items() if k not in CROWD_TIMING_COLUMNS} for r in rows]
+        )
+
+    assert [r["run_id"] for r in local] == sorted(s.run_id for s in specs)
+    assert all(r["error"] is None and r["suite"] == "crowds" for r in local)
+    assert strip(dask) == strip(local)
+    assert strip(load_results(tmp_path / "local")) == strip(local)
+
+
 def test_ray_cluster_gives_the_same_rows(local, tmp_path: Path) -> None:
     pytest.importorskip("ray")
     _, rows = local
