@@ -84,8 +84,13 @@ PRESETS: Registry[PlannerPreset] = Registry("planner preset")
 
 
 def has_social_goal(social: SocialContext) -> bool:
-    """Scenes whose structure yields a social goal (queue, group, artwork with a viewer)."""
-    return bool(social.queues or social.groups or any(a.viewer_ids for a in social.artworks))
+    """Scenes whose structure yields a social goal (queue, standing group, artwork with a
+    viewer); walking groups never do."""
+    return bool(
+        social.queues
+        or any(not g.is_walking for g in social.groups)
+        or any(a.viewer_ids for a in social.artworks)
+    )
 
 
 def navigation_only(

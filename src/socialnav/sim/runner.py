@@ -64,18 +64,21 @@ def resolve_target(scenario: Scenario, social: SocialContext) -> Target:
     goal = np.asarray(scenario.goal, dtype=float)
     start = np.asarray(scenario.start, dtype=float)
     try:
-        from socialnav.social.resolve import resolve_social_goal
+        from socialnav.social.resolve import resolve_social_goal_detailed
     except ModuleNotFoundError as exc:  # the social package is not there (partial install)
         if exc.name is None or not exc.name.startswith("socialnav.social"):
             raise
         return Target(goal, None, {"social_goal": None, "social_goal_note": "unavailable"})
-    sg = resolve_social_goal(social, goal, start)
+    resolution = resolve_social_goal_detailed(social, goal, start)
+    sg = resolution.goal
+    rejected = "; ".join(f"{what}: {why}" for what, why in resolution.rejected) or None
     if sg is None:
-        return Target(goal, None, {"social_goal": None})
+        return Target(goal, None, {"social_goal": None, "social_goal_rejected": rejected})
     meta = {
         "social_goal": sg.kind,
         "social_goal_fallback": sg.fallback,
         "social_goal_reason": sg.reason,
+        "social_goal_rejected": rejected,
     }
     pose = np.asarray(sg.pose, dtype=float)
     if sg.is_waypoint:
