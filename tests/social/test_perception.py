@@ -34,7 +34,9 @@ def line_queue(head, direction, k, spacing=0.8, start_id=0):
     d = np.array([np.cos(direction), np.sin(direction)])
     # people face the head: opposite to the direction the queue grows in
     return [
-        Person(start_id + i, tuple(np.asarray(head) + i * spacing * d), yaw=float(direction + np.pi))
+        Person(
+            start_id + i, tuple(np.asarray(head) + i * spacing * d), yaw=float(direction + np.pi)
+        )
         for i in range(k)
     ]
 

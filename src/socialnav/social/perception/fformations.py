@@ -38,6 +38,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.sparse import csr_array
+from scipy.sparse.csgraph import connected_components
 
 from socialnav.core.geometry import FloatArray
 from socialnav.social.perception.base import (
@@ -172,10 +174,32 @@ def _local_means(vote: FloatArray, reach: float) -> FloatArray:
 
 
 def gcff(positions: FloatArray, yaws: FloatArray, params: FFormationParams) -> list[np.ndarray]:
-    """Groups (index arrays into ``positions (K, 2)``, two or more members) by GCFF."""
+    """Groups (index arrays into ``positions (K, 2)``, two or more members) by GCFF.
+
+    People farther apart than ``2 (stride + max(σ, sigma_along)·√mdl)``
+    cannot share a centre (the label cost alone exceeds standing alone), nor occlude each
+    other's centre: the connected components of the closer pairs are solved separately.
+    """
     k = positions.shape[0]
     if k < 2:
         return []
+    reach = max(params.sigma, params.sigma_along) * np.sqrt(params.mdl)
+    link = np.linalg.norm(positions[:, None] - positions[None], axis=-1) <= 2 * (
+        params.stride + reach
+    )
+    n, comp = connected_components(csr_array(link.astype(np.int8)), directed=False)
+    if n > 1:
+        out = []
+        for c in range(n):
+            idx = np.flatnonzero(comp == c)
+            if idx.size >= 2:
+                out += [idx[g] for g in _gcff(positions[idx], yaws[idx], params)]
+        return sorted(out, key=lambda g: int(g[0]))
+    return _gcff(positions, yaws, params)
+
+
+def _gcff(positions: FloatArray, yaws: FloatArray, params: FFormationParams) -> list[np.ndarray]:
+    k = positions.shape[0]
     vote = votes(positions, yaws, params.stride)
     reach = max(params.sigma, params.sigma_along) * np.sqrt(params.mdl)
     centers = np.concatenate([vote, _local_means(vote, reach)])
