@@ -7,27 +7,28 @@ F-formations"); the o-space is Kendon's (Conducting Interaction, 1990).
 
 1. Every standing person ``i`` votes for an o-space centre ``c_i = p_i + D·(cos θ_i, sin θ_i)``,
    ``D`` the *stride* (distance from a person to the centre of the conversation they face).
-2. Centres ``o_g`` (initially every vote, and for each vote the mean of the votes within
-   ``max(σ, sigma_along)·√mdl``, one mean-shift step) are candidate groups. Assigning person ``i`` to ``g``
-   costs ``|c_i − o_g|² / σ²`` — generalised here to an anisotropic Gaussian, σ across the
-   gaze and ``sigma_along`` along it, since people of larger circles stand farther from the
-   centre than the stride (GCFF is the case ``sigma_along = σ``) — plus ``occlusion_cost`` when another person stands between
-   ``p_i`` and ``o_g`` (GCFF's visibility term: one cannot converse through someone). Each group
-   in use costs ``mdl`` (the minimum-description-length label cost), so a person joins a group
-   only when that is cheaper than standing alone.
+2. Candidate centres ``o_g``: every vote and, for each vote, the mean of the votes within
+   ``max(σ, sigma_along)·√mdl`` (one mean-shift step). Assigning person ``i`` to ``g`` costs
+   ``|c_i − o_g|² / σ²`` in GCFF; here an anisotropic version, σ across the gaze and
+   ``sigma_along`` along it (GCFF is ``sigma_along = σ``), since members of larger circles stand
+   farther from the centre than the stride. Add ``occlusion_cost`` when another person stands
+   between ``p_i`` and ``o_g`` or in the o-space itself (GCFF's visibility term: one cannot
+   converse through someone). Each group in use costs ``mdl`` (the minimum-description-length
+   label cost), so a person joins a group only when that is cheaper than standing alone.
 3. The labelling minimises the sum. GCFF's energy has no pairwise terms, so it is an
    uncapacitated facility-location problem; GCFF solves it by α-expansion with label costs
-   (Delong et al. 2012); here by the classic add/drop/swap local search for facility
-   location (:func:`facility_location`), fast enough for every control cycle. Centres are re-estimated as the mean of their members' votes
-   and step 2–3 repeat until the labelling is stable (GCFF's outer loop), at most
-   ``iterations`` times.
+   (Delong et al. 2012); here the classic add/drop/swap local search for facility location
+   (:func:`facility_location`), fast enough for every control cycle. Centres are re-estimated
+   from their members (the weighted least-squares point of the anisotropic costs) and steps
+   2–3 repeat until the labelling is stable (GCFF's outer loop), at most ``iterations`` times.
 
 Parameters (metres; defaults fitted on the Cristani et al. *Synth* data only, see
-``benchmarks/bench_context.py``): ``stride`` D, ``sigma`` σ, ``mdl``, ``occlusion_cost``,
-``occlusion_radius`` (a body's radius). The fit is a grid search maximising the mean of F1
-at T = 2/3 and T = 1 on Synth, among ``sigma_along >= 2σ`` (so that circles of 0.6–1 m radius,
-the project's group scenarios, are not split). A person joins a centre whose vote lies within
-``σ·√mdl`` (0.5 m) across, ``sigma_along·√mdl`` (1 m) along the gaze. The dataset's own settings give a 0.6 m stride for its method.
+``benchmarks/bench_context.py --fit``): ``stride`` D, ``sigma`` σ, ``sigma_along``, ``mdl``,
+``occlusion_cost``, ``occlusion_radius`` (a body's radius). The fit is a grid search maximising
+the mean of F1 at T = 2/3 and T = 1 on Synth, among ``sigma_along >= 2σ`` (so that circles of
+0.6–1 m radius, the project's group scenarios, are not split). A person joins a centre whose
+vote lies within ``σ·√mdl`` (0.5 m) across or ``sigma_along·√mdl`` (1 m) along the gaze. The
+dataset's own settings give a 0.6 m stride for the original method.
 
 Output: groups of at least two members with o-space centre (the fitted centre), radius (the mean
 member distance to it) and a score ``exp(−mean cost / 2)`` in (0, 1].
