@@ -108,9 +108,8 @@ def fformation_section(fit: bool) -> None:
         truth = [t for _, t in fr]
         for label, t in (("2/3", 2 / 3), ("1", 1.0)):
             s = group_detection_scores(det, truth, t)
-            emit(
-                f"| {name} | {s.frames} | {label} | {s.precision:.3f} | {s.recall:.3f} | {s.f1:.3f} |"
-            )
+            scores = f"{s.precision:.3f} | {s.recall:.3f} | {s.f1:.3f}"
+            emit(f"| {name} | {s.frames} | {label} | {scores} |")
 
 
 # --- 2. queues ------------------------------------------------------------------------------
