@@ -10,10 +10,10 @@ are skipped). Prints Markdown tables and writes them to ``benchmarks/out/context
    the annotated frames are not consecutive video frames). ``--fit`` repeats the grid search
    on Synth that chose the defaults of :class:`FFormationParams`; CoffeeBreak is never used
    for fitting.
-2. Queues: 400 generated scenes (seeded), 2–8 members, spacing 0.6–1.1 m, lateral bends up to
-   0.4 m, any orientation, position noise σ 0.1 m, heading noise σ 15°, with and without a desk
-   (a service point from the map); a scene is correct when exactly one queue is found with the
-   true members in the true order.
+2. Queues: 400 generated scenes (seeds 1014/1015; the parameters were tuned on 14/15), 2–8
+   members, spacing 0.6–1.1 m, lateral bends up to 0.4 m, any orientation, position noise
+   σ 0.1 m, heading noise σ 15°, with and without a desk (a service point from the map); a
+   scene is correct when exactly one queue is found with the true members in the true order.
 3. Walking groups on ETH hotel and UCY zara01 (Pellegrini et al. 2009; Lerner et al. 2007)
    against their ``groups.txt``: pairwise precision and recall, pairs counted per annotated
    frame among the people present, with the estimator run over the frames in order (0.4 s
@@ -86,7 +86,7 @@ def fformation_section(fit: bool) -> None:
     params = FFormationParams()
     if fit:
         best = None
-        grid = itertools.product([0.4, 0.5, 0.6, 0.7], [0.1, 0.15, 0.2], [2, 3], [8, 16, 25])
+        grid = itertools.product([0.4, 0.5, 0.6, 0.7], [0.1, 0.15, 0.2], [3, 4], [8, 16, 25])
         for stride, sigma, along, mdl in grid:
             p = FFormationParams(stride=stride, sigma=sigma, sigma_along=along * sigma, mdl=mdl)
             det = detect_frames(frames["Synth"], p)
@@ -143,7 +143,8 @@ def queue_section(scenes: int = 200) -> None:
     emit("| desk | scenes | membership correct | membership and order correct |")
     emit("|---|---|---|---|")
     for desk in (True, False):
-        rng = np.random.default_rng(14 if desk else 15)
+        # the queue parameters were tuned on seeds 14 and 15; these seeds are held out
+        rng = np.random.default_rng(1014 if desk else 1015)
         member_ok = order_ok = 0
         for _ in range(scenes):
             people, truth, knowledge = generated_queue(rng, desk)

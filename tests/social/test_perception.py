@@ -71,12 +71,13 @@ def test_two_separate_conversations_are_two_groups():
 
 
 def test_someone_between_a_person_and_the_ospace_centre_occludes_them():
-    # 0 and 1 face each other 1.6 m apart; 2 stands between 0 and their centre, facing away
+    # 0 and 1 face each other 1.6 m apart; 2 stands between 0 and their centre, facing 0
     pos = np.array([(0.0, 0.0), (1.6, 0.0), (0.4, 0.0)])
-    yaw = np.array([0.0, np.pi, -np.pi / 2])
+    yaw = np.array([0.0, np.pi, np.pi])
     assert [g.tolist() for g in gcff(pos[:2], yaw[:2], FFormationParams())] == [[0, 1]]
-    groups = gcff(pos, yaw, FFormationParams())
-    assert not any({0, 1} <= set(g.tolist()) for g in groups)
+    blind = gcff(pos, yaw, FFormationParams(occlusion_cost=0.0))
+    assert [g.tolist() for g in blind] == [[0, 1, 2]]
+    assert [g.tolist() for g in gcff(pos, yaw, FFormationParams())] == [[1, 2]]
 
 
 @given(st.lists(st.floats(0, 10), min_size=4, max_size=16), st.floats(0.5, 50))

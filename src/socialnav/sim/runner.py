@@ -105,6 +105,76 @@ def _controller(spec: Any, params: dict[str, Any] | None) -> tuple[Controller, s
     raise ConfigurationError(f"not a controller, controller name or factory: {spec!r}")
 
 
+CONTEXTS = ("given", "detected")
+#: Detected context: the robot watches the scene this long (s) before it starts to move, so the
+#: estimator's hysteresis has settled (a robot is switched on before it is sent somewhere).
+WARMUP = 1.0
+
+
+class DetectedContext:
+    """The robot's view in ``--context detected``: true people → :class:`PerceptionModel`
+    tracks → :class:`~socialnav.social.perception.ContextEstimator` → :class:`SocialContext`.
+
+    The map knowledge is what a semantic map holds: the artworks and the queues' service points
+    (desks) of the scenario — never who stands where or with whom. Detected F-formations get
+    the mode of the scenario's groups (``lead`` when the task is to lead a group): the mode is
+    the robot's task, not something to perceive.
+    """
+
+    def __init__(self, scn: Scenario, seed: int, noise: Any = None) -> None:
+        from socialnav.core.scene import Artwork
+        from socialnav.sim.perception import DEFAULT_PERCEPTION, PerceptionModel
+        from socialnav.social.perception import ContextEstimator, EstimatorParams, MapKnowledge
+
+        knowledge = MapKnowledge(
+            artworks=tuple(
+                Artwork(tuple(a.center), a.width, a.facing)  # type: ignore[arg-type]
+                for a in scn.artworks
+            ),
+            service_points=np.array([q.service_point for q in scn.queues], dtype=float),
+        )
+        mode = "lead" if any(g.mode == "lead" for g in scn.groups) else "join"
+        self.estimator = ContextEstimator(knowledge, EstimatorParams(group_mode=mode))
+        # a seed stream of its own, so perception noise never shifts the scenario's jitter
+        self.perception = PerceptionModel(
+            DEFAULT_PERCEPTION if noise is None else noise, scn.bounds(), seed=10_007 + seed
+        )
+        self.ids = np.array([p.id for p in scn.people], dtype=np.int64)
+        self.radii = np.array([p.radius for p in scn.people], dtype=float)
+        self.seconds: list[float] = []
+
+    def observe(self, t: float, pos: FloatArray, vel: FloatArray, yaw: FloatArray) -> SocialContext:
+        started = _time.perf_counter()
+        tracks = self.perception.observe(self.ids, pos, vel, yaw, self.radii)
+        context = self.estimator.update(t, tracks).context
+        self.seconds.append(_time.perf_counter() - started)
+        return context
+
+    def warm_up(self, social0: SocialContext, dt: float) -> SocialContext:
+        pos, vel, yaw = social0.positions(), social0.velocities(), social0.yaws()
+        steps = max(1, round(WARMUP / dt))
+        context = social0
+        for k in range(steps):
+            t = (k - steps) * dt
+            # walkers are seen where they were: their recent past, at constant velocity
+            context = self.observe(t, pos + vel * t, vel, yaw)
+        return context
+
+
+def _reset(ctrl: Controller, scn: Scenario, model: RobotModel, social: SocialContext) -> None:
+    """Reset, handing the initial context to controllers that accept one."""
+    import inspect
+
+    try:
+        takes_social = "social" in inspect.signature(ctrl.reset).parameters
+    except (TypeError, ValueError):
+        takes_social = False
+    if takes_social:
+        ctrl.reset(scn, model, social=social)  # type: ignore[call-arg]
+    else:
+        ctrl.reset(scn, model)
+
+
 def run_episode(
     scenario: Scenario | str,
     controller: Controller | str | Any,
@@ -116,6 +186,8 @@ def run_episode(
     controller_params: dict[str, Any] | None = None,
     reactive_behavior: str = "HL",
     vary_group_sizes: bool = False,
+    context: str = "given",
+    perception: Any = None,
 ) -> EpisodeResult:
     """Simulate one episode and record it.
 
@@ -123,20 +195,33 @@ def run_episode(
     (built with ``controller_params``), or a navground behaviour name (``ORCA``, ``HL``,
     ``SocialForce``, ``HRVO``, ``Dummy``). ``humans``: ``"scripted"`` (the paper) or
     ``"reactive"`` (navground ``reactive_behavior``, default ``HL``).
+
+    ``context``: ``"given"`` (the scenario's groups, queues and viewers, exact people) or
+    ``"detected"`` (the planner sees only noisy tracks from
+    :class:`~socialnav.sim.perception.PerceptionModel` with ``perception`` noise, default
+    :data:`~socialnav.sim.perception.DEFAULT_PERCEPTION`, and the structures the estimator finds
+    in them; see :class:`DetectedContext`). Success is always measured against the target the
+    true context defines.
     """
+    if context not in CONTEXTS:
+        raise ConfigurationError(f"unknown context {context!r}; use given or detected")
     wall_start = _time.perf_counter()
     scn = load_scenario(scenario) if isinstance(scenario, str) else scenario
     scn = scn.randomize(seed, vary_group_sizes=vary_group_sizes)
     model = _robot_model(robot)
     social0 = scn.social_context(scn.start)
     target = resolve_target(scn, social0)
+    detector = DetectedContext(scn, seed, perception) if context == "detected" else None
+    seen0 = social0 if detector is None else detector.warm_up(social0, float(scn.control_period))
+    # what the robot drives to: from what it sees (navground baselines plan to it up front)
+    driven = target if detector is None else resolve_target(scn, seen0)
 
     baseline = isinstance(controller, str) and controller in NAVGROUND_BEHAVIORS
     if baseline:
-        waypoints = [] if target.waypoint is None else [target.waypoint]
-        waypoints.append(target.pose[:2])
+        waypoints = [] if driven.waypoint is None else [driven.waypoint]
+        waypoints.append(driven.pose[:2])
         behavior, task = make_baseline(
-            controller, model, waypoints, float(target.pose[2]), tolerance=0.5 * scn.goal_tolerance
+            controller, model, waypoints, float(driven.pose[2]), tolerance=0.5 * scn.goal_tolerance
         )
         simw = build_world(
             scn,
@@ -152,7 +237,7 @@ def run_episode(
         ctrl_behavior = None
     else:
         ctrl, planner_name = _controller(controller, controller_params)
-        ctrl.reset(scn, model)
+        _reset(ctrl, scn, model, seen0)
         ctrl_behavior = ControllerBehavior()
         ctrl_behavior.controller = ctrl
         ctrl_behavior.robot_model = model
@@ -174,7 +259,10 @@ def run_episode(
         pose = pose_of(simw.robot)
         pos, vel, yaw = simw.people_state()
         if ctrl_behavior is not None:
-            social = context_at(social0, pos, vel, yaw)
+            if detector is None:
+                social = context_at(social0, pos, vel, yaw)
+            else:
+                social = detector.observe(t, pos, vel, yaw)
             ctrl_behavior.observe = lambda _dt, t=t, social=social: (t, social)
             simw.world.update(dt)
             out = ctrl_behavior.last_output
@@ -217,6 +305,15 @@ def run_episode(
             "humans": humans,
             "reactive_behavior": reactive_behavior if humans == "reactive" else None,
             "termination": reason,
+            "context": context,
+            **(
+                {}
+                if detector is None
+                else {
+                    "estimator_ms_median": float(np.median(detector.seconds) * 1e3),
+                    "detected_social_goal": driven.meta.get("social_goal"),
+                }
+            ),
             "engine": f"navground {core.get_build_info().version_string}",
             **target.meta,
         },

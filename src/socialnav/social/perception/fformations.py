@@ -25,13 +25,14 @@ F-formations"); the o-space is Kendon's (Conducting Interaction, 1990).
 Parameters (metres; defaults fitted on the Cristani et al. *Synth* data only, see
 ``benchmarks/bench_context.py --fit``): ``stride`` D, ``sigma`` σ, ``sigma_along``, ``mdl``,
 ``occlusion_cost``, ``occlusion_radius`` (a body's radius). The fit is a grid search maximising
-the mean of F1 at T = 2/3 and T = 1 on Synth, among ``sigma_along >= 2σ`` (so that circles of
-0.6–1 m radius, the project's group scenarios, are not split). A person joins a centre whose
-vote lies within ``σ·√mdl`` (0.5 m) across or ``sigma_along·√mdl`` (1 m) along the gaze. The
+the mean of F1 at T = 2/3 and T = 1 on Synth, among ``sigma_along >= 3σ`` (so that circles of
+0.6–1.2 m radius, the project's group scenarios, are not split). A person joins a centre whose
+vote lies within ``σ·√mdl`` (0.5 m) across or ``sigma_along·√mdl`` (1.5 m) along the gaze. The
 dataset's own settings give a 0.6 m stride for the original method.
 
 Output: groups of at least two members with o-space centre (the fitted centre), radius (the mean
-member distance to it) and a score ``exp(−mean cost / 2)`` in (0, 1].
+member distance to it) and a score ``1 − mean cost / mdl`` in [0, 1]: the margin by which
+joining beats standing alone (1: every vote on the centre; 0: no better than alone).
 """
 
 from __future__ import annotations
@@ -58,9 +59,9 @@ class FFormationParams:
 
     stride: float = 0.4
     sigma: float = 0.1
-    sigma_along: float = 0.2
+    sigma_along: float = 0.3
     mdl: float = 25.0
-    occlusion_cost: float = 20.0
+    occlusion_cost: float = 25.0
     occlusion_radius: float = 0.25
     iterations: int = 10
     standing_speed: float = STANDING_SPEED
@@ -248,7 +249,7 @@ class FFormationDetector:
                 Candidate(
                     "fformation",
                     tuple(int(i) for i in frame.ids[idx[g]]),
-                    float(np.exp(-cost.mean() / 2.0)),
+                    float(np.clip(1.0 - cost.mean() / self.params.mdl, 0.0, 1.0)),
                     geometry={"ospace_center": center, "ospace_radius": radius},
                 )
             )

@@ -22,10 +22,12 @@ from socialnav.social.perception.base import Candidate, StructureKind
 
 @dataclass(frozen=True)
 class HysteresisParams:
-    """``time_constant`` (s), thresholds ``on`` > ``off`` in [0, 1], ``match_jaccard``, and
-    ``forget`` (a track below this confidence is dropped)."""
+    """``time_constant`` (s), ``nominal_period`` (s, the Δt of the very first update),
+    thresholds ``on`` > ``off`` in [0, 1], ``match_jaccard``, and ``forget`` (a track below this
+    confidence is dropped)."""
 
     time_constant: float = 0.5
+    nominal_period: float = 0.1
     on: float = 0.5
     off: float = 0.25
     match_jaccard: float = 0.5
@@ -66,7 +68,7 @@ class StructureTracker:
     def update(self, time: float, candidates: list[Candidate]) -> list[Track]:
         """Fold in the candidates seen at ``time`` (s); returns the active tracks."""
         p = self.params
-        dt = p.time_constant if self._time is None else max(time - self._time, 0.0)
+        dt = p.nominal_period if self._time is None else max(time - self._time, 0.0)
         if self._time is None and p.time_constant <= 0:
             dt = 0.0
         self._time = time
