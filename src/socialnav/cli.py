@@ -65,6 +65,13 @@ def compare(
     seeds: Annotated[int | None, typer.Option(help="Seeds per scenario (randomized: 20).")] = None,
     jobs: Annotated[int, typer.Option(help="Parallel workers; -1 = all cores.")] = -1,
     resume: Annotated[bool, typer.Option(help="Skip runs already in the report folder.")] = True,
+    context: Annotated[
+        str,
+        typer.Option(
+            help="given (the scenario's groups, queues, viewers), detected (noisy tracks and "
+            "the context estimator), or both (side by side in the report)."
+        ),
+    ] = "given",
 ) -> None:
     """The main job: every scenario × planner × robot, into a Markdown/HTML report with figures."""
     from rich.progress import BarColumn, MofNCompleteColumn, Progress, TimeElapsedColumn
@@ -78,6 +85,9 @@ def compare(
 
     if suite not in ("paper", "reactive", "randomized"):
         _fail(f"unknown suite {suite!r}; use paper, reactive or randomized")
+    contexts = {"given": ("given",), "detected": ("detected",), "both": ("given", "detected")}
+    if context not in contexts:
+        _fail(f"unknown context {context!r}; use given, detected or both")
     try:
         planner_names = _split(planners) or PLANNERS.names()
         for name in planner_names:
@@ -87,7 +97,12 @@ def compare(
         for name in _split(scenarios):
             load_scenario(name)  # an unknown name fails here, not as one error row per run
         specs = suite_specs(
-            suite, _split(scenarios) or builtin_scenarios(), planner_names, _split(robots), seeds
+            suite,
+            _split(scenarios) or builtin_scenarios(),
+            planner_names,
+            _split(robots),
+            seeds,
+            contexts=contexts[context],
         )
     except ConfigurationError as exc:
         _fail(str(exc))
@@ -107,6 +122,28 @@ def compare(
     report = build_report(rows, out, suite=suite)
     failed = sum(1 for r in rows if r.get("error"))
     typer.echo(f"{len(rows)} runs ({failed} errors) → {report}")
+
+
+@app.command()
+def detect(
+    source: Annotated[
+        str, typer.Argument(help="Episode folder (from run/compare), built-in scenario or YAML.")
+    ],
+    out: Annotated[Path, typer.Option(help="Output folder.")] = Path("detect"),
+    noise: Annotated[str, typer.Option(help="Perception noise: default or none.")] = "default",
+    seed: Annotated[int, typer.Option(help="Seed of the perception noise.")] = 0,
+) -> None:
+    """Estimate the social context over a recording or a scenario: structures.parquet and a
+    picture."""
+    from socialnav.core.errors import ConfigurationError
+    from socialnav.experiments.detect import detect_file
+
+    try:
+        summary = detect_file(source, out, noise=noise, seed=seed)
+    except ConfigurationError as exc:
+        _fail(str(exc))
+        return
+    typer.echo(json.dumps(summary, indent=1))
 
 
 @app.command()

@@ -67,6 +67,7 @@ def run_planner_episode(spec: Any, record_diagnostics: bool = False) -> Any:
         humans=spec.humans,
         record_diagnostics=record_diagnostics,
         vary_group_sizes=spec.randomize,
+        context=getattr(spec, "context", "given"),
     )
     result.record.meta.update({"planner": spec.planner, "robot": spec.robot, "seed": spec.seed})
     if isinstance(controller, StackController):
