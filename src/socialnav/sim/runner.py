@@ -8,8 +8,8 @@ record.
 Timing: one sample per control period ``dt`` (0.1 s, the paper's). Sample ``k`` holds the state
 at ``t = k·dt`` and the command applied for the following ``dt``. The episode ends at the first
 sample where the controller reports ``GOAL_REACHED`` with a zero command (commands act
-instantly, so the robot is stopped), where a navground baseline's task is done, or at the time
-limit (sample ``t = time_limit`` included).
+instantly, so the robot is stopped), or at the time limit (sample ``t = time_limit`` included).
+Every controller, navground behaviours included, runs through the same loop body.
 """
 
 from __future__ import annotations
@@ -26,12 +26,16 @@ from socialnav.core.errors import ConfigurationError
 from socialnav.core.geometry import FloatArray
 from socialnav.core.robot import ROBOT_MODELS, RobotModel
 from socialnav.core.scene import SocialContext
-from socialnav.sim.baselines import NAVGROUND_BEHAVIORS, make_baseline
-from socialnav.sim.controller import CONTROLLERS, GOAL_REACHED, Controller
+from socialnav.planner.record import EvaluationRecord
+from socialnav.sim import baselines as _baselines  # noqa: F401  (registers navground, go_to_goal)
+from socialnav.sim import stack as _stack  # noqa: F401  (registers the planner presets)
+from socialnav.sim.controller import GOAL_REACHED, Controller, ControllerFactory, make_controller
 from socialnav.sim.engine import ControllerBehavior, SimWorld, build_world, pose_of
 from socialnav.sim.recorder import EpisodeRecorder, StaticGeometry, context_at
 from socialnav.sim.scenario import Scenario, load_scenario
-from socialnav.sim.stack import StackController  # noqa: F401  (registers the presets by name)
+from socialnav.sim.target import Target, resolve_target
+
+__all__ = ["EpisodeResult", "Target", "resolve_target", "run_episode", "simulate_world"]
 
 #: a controller counts as stopped below these speeds (m/s, rad/s)
 STOP_EPS = 1e-3
@@ -39,51 +43,19 @@ STOP_EPS = 1e-3
 
 @dataclass
 class EpisodeResult:
-    """``record``; ``diagnostics`` one entry per sample when asked; ``wall_time`` (s)."""
+    """``record``; ``diagnostics`` one evaluation record (or ``None``) per sample when asked;
+    ``wall_time`` (s); ``step_seconds`` the wall time of each control step (s), controller
+    included (timing: not part of the deterministic record)."""
 
     record: EpisodeRecord
-    diagnostics: list[Any] = field(default_factory=list)
+    diagnostics: list[EvaluationRecord | None] = field(default_factory=list)
     wall_time: float = 0.0
+    step_seconds: list[float] = field(default_factory=list)
 
-
-@dataclass(frozen=True)
-class Target:
-    """Where success is measured: ``pose (3,)``, optional ``waypoint (2,)``, and why."""
-
-    pose: FloatArray
-    waypoint: FloatArray | None
-    meta: dict[str, Any]
-
-
-def resolve_target(scenario: Scenario, social: SocialContext) -> Target:
-    """The social goal when one resolves (``socialnav.social.resolve``), else the given goal.
-
-    A social goal of kind ``waypoint`` (gallery activity) keeps the given goal as the target and
-    becomes the waypoint to pass.
-    """
-    goal = np.asarray(scenario.goal, dtype=float)
-    start = np.asarray(scenario.start, dtype=float)
-    try:
-        from socialnav.social.resolve import resolve_social_goal_detailed
-    except ModuleNotFoundError as exc:  # the social package is not there (partial install)
-        if exc.name is None or not exc.name.startswith("socialnav.social"):
-            raise
-        return Target(goal, None, {"social_goal": None, "social_goal_note": "unavailable"})
-    resolution = resolve_social_goal_detailed(social, goal, start)
-    sg = resolution.goal
-    rejected = "; ".join(f"{what}: {why}" for what, why in resolution.rejected) or None
-    if sg is None:
-        return Target(goal, None, {"social_goal": None, "social_goal_rejected": rejected})
-    meta = {
-        "social_goal": sg.kind,
-        "social_goal_fallback": sg.fallback,
-        "social_goal_reason": sg.reason,
-        "social_goal_rejected": rejected,
-    }
-    pose = np.asarray(sg.pose, dtype=float)
-    if sg.is_waypoint:
-        return Target(goal, pose[:2].copy(), meta)
-    return Target(pose, None, meta)
+    @property
+    def step_ms_median(self) -> float:
+        """Median control-step time (ms), NaN for an empty episode."""
+        return float(np.median(self.step_seconds) * 1e3) if self.step_seconds else float("nan")
 
 
 def _robot_model(robot: RobotModel | str) -> RobotModel:
@@ -94,9 +66,11 @@ def _robot_model(robot: RobotModel | str) -> RobotModel:
     return ROBOT_MODELS[robot]
 
 
-def _controller(spec: Any, params: dict[str, Any] | None) -> tuple[Controller, str]:
+def _controller(
+    spec: Controller | str | ControllerFactory, params: dict[str, Any] | None
+) -> tuple[Controller, str]:
     if isinstance(spec, str):
-        return CONTROLLERS.get(spec)(**(params or {})), spec
+        return make_controller(spec, **(params or {})), spec
     if not isinstance(spec, type) and isinstance(spec, Controller):
         return spec, type(spec).__name__
     if callable(spec):
@@ -177,7 +151,7 @@ def _reset(ctrl: Controller, scn: Scenario, model: RobotModel, social: SocialCon
 
 def run_episode(
     scenario: Scenario | str,
-    controller: Controller | str | Any,
+    controller: Controller | str | ControllerFactory,
     robot: RobotModel | str = "pr2",
     seed: int = 0,
     humans: str = "scripted",
@@ -191,17 +165,23 @@ def run_episode(
 ) -> EpisodeResult:
     """Simulate one episode and record it.
 
-    ``controller``: a :class:`Controller`, a factory, a name registered in ``CONTROLLERS``
-    (built with ``controller_params``), or a navground behaviour name (``ORCA``, ``HL``,
-    ``SocialForce``, ``HRVO``, ``Dummy``). ``humans``: ``"scripted"`` (the paper) or
-    ``"reactive"`` (navground ``reactive_behavior``, default ``HL``).
+    ``controller``: a :class:`Controller`, a factory, or a name registered in ``CONTROLLERS``
+    (built with ``controller_params``; navground behaviours are registered as ``orca``, ``hl``,
+    ``social_force``). ``humans``: ``"scripted"`` (the paper) or ``"reactive"`` (navground
+    ``reactive_behavior``, default ``HL``). Success is measured against the target the
+    controller recorded last (``PlannerResult.target``) when it resolved one other than the
+    given goal, else the scenario's (:func:`~socialnav.sim.target.resolve_target`); the record's
+    ``meta["target_source"]`` says which. ``diagnostics`` (when
+    ``record_diagnostics``) holds each sample's evaluation record or ``None``.
 
     ``context``: ``"given"`` (the scenario's groups, queues and viewers, exact people) or
-    ``"detected"`` (the planner sees only noisy tracks from
+    ``"detected"`` (the controller sees only noisy tracks from
     :class:`~socialnav.sim.perception.PerceptionModel` with ``perception`` noise, default
     :data:`~socialnav.sim.perception.DEFAULT_PERCEPTION`, and the structures the estimator finds
-    in them; see :class:`DetectedContext`). Success is always measured against the target the
-    true context defines.
+    in them; see :class:`DetectedContext`). With the context detected, success is measured at
+    the social goal of the *true* context seen from the robot's final pose (the controller's own
+    target may be wrong: that is what is measured), ``meta["target_source"]`` =
+    ``"true context"``.
     """
     if context not in CONTEXTS:
         raise ConfigurationError(f"unknown context {context!r}; use given or detected")
@@ -213,35 +193,13 @@ def run_episode(
     target = resolve_target(scn, social0)
     detector = DetectedContext(scn, seed, perception) if context == "detected" else None
     seen0 = social0 if detector is None else detector.warm_up(social0, float(scn.control_period))
-    # what the robot drives to: from what it sees (navground baselines plan to it up front)
-    driven = target if detector is None else resolve_target(scn, seen0)
 
-    baseline = isinstance(controller, str) and controller in NAVGROUND_BEHAVIORS
-    if baseline:
-        waypoints = [] if driven.waypoint is None else [driven.waypoint]
-        waypoints.append(driven.pose[:2])
-        behavior, task = make_baseline(
-            controller, model, waypoints, float(driven.pose[2]), tolerance=0.5 * scn.goal_tolerance
-        )
-        simw = build_world(
-            scn,
-            model,
-            behavior,
-            humans,
-            reactive_behavior,
-            robot_task=task,
-            sensing=True,
-            seed=seed,
-        )
-        planner_name = controller
-        ctrl_behavior = None
-    else:
-        ctrl, planner_name = _controller(controller, controller_params)
-        _reset(ctrl, scn, model, seen0)
-        ctrl_behavior = ControllerBehavior()
-        ctrl_behavior.controller = ctrl
-        ctrl_behavior.robot_model = model
-        simw = build_world(scn, model, ctrl_behavior, humans, reactive_behavior, seed=seed)
+    ctrl, planner_name = _controller(controller, controller_params)
+    _reset(ctrl, scn, model, seen0)
+    ctrl_behavior = ControllerBehavior()
+    ctrl_behavior.controller = ctrl
+    ctrl_behavior.robot_model = model
+    simw = build_world(scn, model, ctrl_behavior, humans, reactive_behavior, seed=seed)
 
     static = StaticGeometry(scn.walls_array(), tuple(scn.obstacle_polygons()), scn.discs_array())
     recorder = EpisodeRecorder(
@@ -250,7 +208,9 @@ def run_episode(
         np.array([p.radius for p in scn.people], dtype=float),
         static,
     )
-    diagnostics: list[Any] = []
+    diagnostics: list[EvaluationRecord | None] = []
+    step_seconds: list[float] = []
+    driven_to: FloatArray | None = None
     dt = float(scn.control_period)
     last = round(scn.time_limit / dt)
     reason = "time_limit"
@@ -258,44 +218,52 @@ def run_episode(
         t = k * dt
         pose = pose_of(simw.robot)
         pos, vel, yaw = simw.people_state()
-        if ctrl_behavior is not None:
-            if detector is None:
-                social = context_at(social0, pos, vel, yaw)
-            else:
-                social = detector.observe(t, pos, vel, yaw)
-            ctrl_behavior.observe = lambda _dt, t=t, social=social: (t, social)
-            simw.world.update(dt)
-            out = ctrl_behavior.last_output
-            cmd = ctrl_behavior.last_cmd
-            status = out.status if out is not None else "NO_CONTROLLER"
-            if record_diagnostics:
-                diagnostics.append(None if out is None else out.diagnostics)
-            done = status == GOAL_REACHED and bool(np.all(np.abs(cmd) < STOP_EPS))
+        if detector is None:
+            social = context_at(social0, pos, vel, yaw)
         else:
-            done = bool(simw.robot.task.done())
-            simw.world.update(dt)
-            last_cmd = simw.robot.get_last_cmd(core.Frame.relative)
-            cmd = np.array(
-                [last_cmd.velocity[0], last_cmd.velocity[1], last_cmd.angular_speed], dtype=float
-            )
-            status = GOAL_REACHED if done else "OK"
-            if record_diagnostics:
-                diagnostics.append(None)
+            social = detector.observe(t, pos, vel, yaw)
+        ctrl_behavior.observe = lambda _dt, t=t, social=social: (t, social)
+        started = _time.perf_counter()
+        simw.world.update(dt)
+        step_seconds.append(_time.perf_counter() - started)
+        out = ctrl_behavior.last_output
+        cmd = ctrl_behavior.last_cmd
+        status = out.status.value if out is not None else "NO_CONTROLLER"
+        if out is not None and out.target is not None and np.all(np.isfinite(out.target)):
+            driven_to = out.target
+        if record_diagnostics:
+            diagnostics.append(None if out is None else out.record)
+        done = status == GOAL_REACHED and bool(np.all(np.abs(cmd) < STOP_EPS))
         recorder.add(t, pose, cmd, pos, vel, status)
         if done:
             reason = "goal_reached"
             break
 
+    # Success is measured at the target the controller drove to when it resolved one itself (its
+    # social goal, a reachable substitute for a blocked goal); a controller that drove to the
+    # given goal is still measured at the scenario's social goal, which it may have ignored.
+    own = driven_to is not None and not np.allclose(driven_to, np.asarray(scn.goal, dtype=float))
+    measured = driven_to if own and target.waypoint is None else target.pose
+    source = "controller" if own and target.waypoint is None else "scenario"
+    extra: dict[str, Any] = {"context": context}
+    if detector is not None:
+        # the true context's social goal, seen from where the robot ended
+        truth = resolve_target(scn, context_at(social0, pos, vel, yaw), robot_pose=pose)
+        measured = truth.pose if target.waypoint is None else target.pose
+        source = "true context"
+        extra["estimator_ms_median"] = float(np.median(detector.seconds) * 1e3)
+        extra["detected_social_goal"] = resolve_target(scn, seen0).meta.get("social_goal")
     record = recorder.build(
         dt=dt,
         robot_radius=model.circumscribed_radius,
         start=np.asarray(scn.start, dtype=float),
         goal=np.asarray(scn.goal, dtype=float),
-        target=target.pose,
+        target=np.array(measured, dtype=float),
         waypoint=target.waypoint,
         goal_tolerance=float(scn.goal_tolerance),
         time_limit=float(scn.time_limit),
         family=scn.family,
+        success=scn.success_spec(),
         scenario=scn.name,
         context=social0,
         meta={
@@ -305,20 +273,13 @@ def run_episode(
             "humans": humans,
             "reactive_behavior": reactive_behavior if humans == "reactive" else None,
             "termination": reason,
-            "context": context,
-            **(
-                {}
-                if detector is None
-                else {
-                    "estimator_ms_median": float(np.median(detector.seconds) * 1e3),
-                    "detected_social_goal": driven.meta.get("social_goal"),
-                }
-            ),
             "engine": f"navground {core.get_build_info().version_string}",
+            "target_source": source,
             **target.meta,
+            **extra,
         },
     )
-    return EpisodeResult(record, diagnostics, _time.perf_counter() - wall_start)
+    return EpisodeResult(record, diagnostics, _time.perf_counter() - wall_start, step_seconds)
 
 
 def simulate_world(simw: SimWorld, steps: int, dt: float) -> None:
