@@ -10,8 +10,8 @@ every kind alike. Positions in metres, world frame; yaw CCW from +x (REP 103).
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
-from typing import Any, Literal
+from dataclasses import dataclass, field, replace
+from typing import Any, ClassVar, Generic, Literal, TypeVar
 
 import numpy as np
 
@@ -106,3 +106,21 @@ the pipeline already placed (a queue member is not also in a conversation)."""
 #: kind → detector factory (``**params -> Detector``); each detector is one module of this
 #: package and registers itself here.
 DETECTORS: Registry[Callable[..., Detector]] = Registry("structure detector")
+
+
+P = TypeVar("P")
+
+
+class ParamDetector(Generic[P]):
+    """Base of the detectors: holds a frozen parameter dataclass, built from ``params`` (or the
+    defaults) with keyword ``overrides`` (the estimator's ``detector_params``)."""
+
+    params_type: ClassVar[type]
+
+    def __init__(self, params: P | None = None, **overrides: Any) -> None:
+        self.params: P = replace(params or self.params_type(), **overrides)
+
+
+def unclaimed(frame: TrackFrame, claimed: frozenset[int], mask: np.ndarray) -> np.ndarray:
+    """Indices into ``frame`` where ``mask (K,)`` holds and the person is not yet claimed."""
+    return np.flatnonzero(mask & ~np.isin(frame.ids, list(claimed)))

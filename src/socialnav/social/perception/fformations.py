@@ -49,7 +49,9 @@ from socialnav.social.perception.base import (
     STANDING_SPEED,
     Candidate,
     MapKnowledge,
+    ParamDetector,
     TrackFrame,
+    unclaimed,
 )
 
 
@@ -225,19 +227,16 @@ def _gcff(positions: FloatArray, yaws: FloatArray, params: FFormationParams) -> 
     return [g for g in groups if g.size >= 2]
 
 
-class FFormationDetector:
+class FFormationDetector(ParamDetector[FFormationParams]):
     """Registered as ``fformation``: GCFF over the standing people not yet claimed."""
 
-    def __init__(self, params: FFormationParams | None = None, **overrides: float) -> None:
-        base = params or FFormationParams()
-        self.params = FFormationParams(**{**base.__dict__, **overrides})
+    params_type = FFormationParams
 
     def __call__(
         self, frame: TrackFrame, knowledge: MapKnowledge, claimed: frozenset[int]
     ) -> list[Candidate]:
         del knowledge
-        mask = frame.standing(self.params.standing_speed) & ~np.isin(frame.ids, list(claimed))
-        idx = np.flatnonzero(mask)
+        idx = unclaimed(frame, claimed, frame.standing(self.params.standing_speed))
         pos, yaw = frame.positions[idx], frame.yaws[idx]
         out = []
         vote = votes(pos, yaw, self.params.stride)

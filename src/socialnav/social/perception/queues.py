@@ -33,7 +33,9 @@ from socialnav.social.perception.base import (
     STANDING_SPEED,
     Candidate,
     MapKnowledge,
+    ParamDetector,
     TrackFrame,
+    unclaimed,
 )
 
 
@@ -107,18 +109,16 @@ def chains(n: int, edges: list[tuple[float, int, int]]) -> list[list[int]]:
     return out
 
 
-class QueueDetector:
+class QueueDetector(ParamDetector[QueueParams]):
     """Registered as ``queue``."""
 
-    def __init__(self, params: QueueParams | None = None, **overrides: float) -> None:
-        base = params or QueueParams()
-        self.params = QueueParams(**{**base.__dict__, **overrides})
+    params_type = QueueParams
 
     def __call__(
         self, frame: TrackFrame, knowledge: MapKnowledge, claimed: frozenset[int]
     ) -> list[Candidate]:
         p = self.params
-        idx = np.flatnonzero(frame.standing(p.standing_speed) & ~np.isin(frame.ids, list(claimed)))
+        idx = unclaimed(frame, claimed, frame.standing(p.standing_speed))
         pos, yaw = frame.positions[idx], frame.yaws[idx]
         service = knowledge.service_points
         out: list[Candidate] = []

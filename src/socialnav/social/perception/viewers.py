@@ -23,7 +23,9 @@ from socialnav.social.perception.base import (
     STANDING_SPEED,
     Candidate,
     MapKnowledge,
+    ParamDetector,
     TrackFrame,
+    unclaimed,
 )
 from socialnav.social.spaces import art_frame
 
@@ -39,18 +41,16 @@ class ViewerParams:
     standing_speed: float = STANDING_SPEED
 
 
-class ViewerDetector:
+class ViewerDetector(ParamDetector[ViewerParams]):
     """Registered as ``viewers``: one candidate per artwork with at least one viewer."""
 
-    def __init__(self, params: ViewerParams | None = None, **overrides: float) -> None:
-        base = params or ViewerParams()
-        self.params = ViewerParams(**{**base.__dict__, **overrides})
+    params_type = ViewerParams
 
     def __call__(
         self, frame: TrackFrame, knowledge: MapKnowledge, claimed: frozenset[int]
     ) -> list[Candidate]:
         p = self.params
-        idx = np.flatnonzero(frame.standing(p.standing_speed) & ~np.isin(frame.ids, list(claimed)))
+        idx = unclaimed(frame, claimed, frame.standing(p.standing_speed))
         out: list[Candidate] = []
         if idx.size == 0:
             return out

@@ -22,7 +22,14 @@ import numpy as np
 from scipy.sparse import csr_array
 from scipy.sparse.csgraph import connected_components
 
-from socialnav.social.perception.base import DETECTORS, Candidate, MapKnowledge, TrackFrame
+from socialnav.social.perception.base import (
+    DETECTORS,
+    Candidate,
+    MapKnowledge,
+    ParamDetector,
+    TrackFrame,
+    unclaimed,
+)
 
 
 @dataclass(frozen=True)
@@ -34,19 +41,17 @@ class WalkingGroupParams:
     min_speed: float = 0.3
 
 
-class WalkingGroupDetector:
+class WalkingGroupDetector(ParamDetector[WalkingGroupParams]):
     """Registered as ``walking_group``."""
 
-    def __init__(self, params: WalkingGroupParams | None = None, **overrides: float) -> None:
-        base = params or WalkingGroupParams()
-        self.params = WalkingGroupParams(**{**base.__dict__, **overrides})
+    params_type = WalkingGroupParams
 
     def __call__(
         self, frame: TrackFrame, knowledge: MapKnowledge, claimed: frozenset[int]
     ) -> list[Candidate]:
         del knowledge
         p = self.params
-        idx = np.flatnonzero((frame.speeds >= p.min_speed) & ~np.isin(frame.ids, list(claimed)))
+        idx = unclaimed(frame, claimed, frame.speeds >= p.min_speed)
         if idx.size < 2:
             return []
         pos, vel = frame.positions[idx], frame.velocities[idx]
