@@ -17,7 +17,7 @@ are skipped). Prints Markdown tables and writes them to ``benchmarks/out/context
 3. Walking groups on ETH hotel and UCY zara01 (Pellegrini et al. 2009; Lerner et al. 2007)
    against their ``groups.txt``: pairwise precision and recall, pairs counted per annotated
    frame among the people present, with the estimator run over the frames in order (0.4 s
-   apart, hysteresis on). Defaults chosen on hotel; zara01 is held out.
+   apart, hysteresis on). The walking-group defaults were set a priori, not tuned on either.
 4. Time per ``ContextEstimator.update`` with 10 and 50 people (a mix of conversations, a
    queue, walkers), median of repeats; the baseline row is the same estimator with the
    F-formation detector only.

