@@ -118,8 +118,8 @@ class DetectedContext:
         self.seconds: list[float] = []
 
     def observe(self, t: float, pos: FloatArray, vel: FloatArray, yaw: FloatArray) -> SocialContext:
-        started = _time.perf_counter()
         tracks = self.perception.observe(self.ids, pos, vel, yaw, self.radii)
+        started = _time.perf_counter()  # the estimator runs on the robot; the sensor model not
         context = self.estimator.update(t, tracks).context
         self.seconds.append(_time.perf_counter() - started)
         return context
@@ -226,6 +226,8 @@ def run_episode(
         started = _time.perf_counter()
         simw.world.update(dt)
         step_seconds.append(_time.perf_counter() - started)
+        if detector is not None:  # the estimator's time counts toward the control step
+            step_seconds[-1] += detector.seconds[-1]
         out = ctrl_behavior.last_output
         cmd = ctrl_behavior.last_cmd
         status = out.status.value if out is not None else "NO_CONTROLLER"
