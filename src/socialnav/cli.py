@@ -40,6 +40,9 @@ def run(
         "parquet"
     ),
     video: Annotated[str, typer.Option(help="none, gif or mp4 (candidate fan by score).")] = "none",
+    context: Annotated[
+        str, typer.Option(help="given (the scenario's structures) or detected (noisy tracks).")
+    ] = "given",
 ) -> None:
     """Run one scenario with one planner; write trajectories, diagnostics, metrics and a figure."""
     from socialnav.core.errors import ConfigurationError
@@ -47,7 +50,15 @@ def run(
 
     try:
         summary = run_single(
-            scenario, planner, robot, seed=seed, humans=humans, out=out, fmt=fmt, video=video
+            scenario,
+            planner,
+            robot,
+            seed=seed,
+            humans=humans,
+            out=out,
+            fmt=fmt,
+            video=video,
+            context=context,
         )
     except ConfigurationError as exc:
         _fail(str(exc))
