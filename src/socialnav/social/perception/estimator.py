@@ -5,13 +5,13 @@ removing that assumption as future work; this module removes it. Every control c
 
 1. **Tracks.** Each track is smoothed by a constant-velocity α filter (Kalata, "The tracking
    index", IEEE T-AES 1984): the position predicted from the last estimate and the measured
-   velocity is corrected by ``smoothing`` × the innovation; velocity and heading are smoothed
-   likewise; an innovation beyond ``gate`` (m, an id switch or a new person) restarts the
-   track at the measurement, and so does a heading turn beyond 90°. People missed for at
-   most ``coast_time`` (s) are coasted at their last velocity (a tracker's usual behaviour;
-   missed detections then do not break up a group). Without smoothing, a 0.05 m position
-   noise on three members of an arc makes their fitted circle, and so the join spot, jump by
-   metres.
+   velocity is corrected by ``smoothing`` × the innovation; velocity and heading likewise. A
+   standing person's estimate is the running mean of their observations (gain ``1/n``,
+   floored at ``standing_smoothing``). An innovation beyond ``gate`` (m: an id switch, a new
+   person) or a heading turn beyond 90° restarts the track at the measurement. People missed
+   for at most ``coast_time`` (s) are coasted at their last velocity, so missed detections do
+   not break up a group. Without smoothing, a 0.05 m position noise on three members of an
+   arc makes their fitted circle, and so the join spot, jump by metres.
 2. **Detection**, in pipeline order, each detector seeing only people that earlier ones did not
    claim: queues (:mod:`.queues`), artwork viewers (:mod:`.viewers`), F-formations
    (:mod:`.fformations`, GCFF), walking groups (:mod:`.walking`). Detectors are registry
@@ -42,6 +42,7 @@ from socialnav.core.scene import Artwork, Group, Person, Queue, SocialContext
 from socialnav.social.perception import fformations, queues, viewers, walking  # noqa: F401
 from socialnav.social.perception.base import (
     DETECTORS,
+    STANDING_SPEED,
     Candidate,
     Detector,
     MapKnowledge,
@@ -58,13 +59,15 @@ SPACING_RANGE = (0.5, 1.2)
 
 @dataclass(frozen=True)
 class EstimatorParams:
-    """``coast_time`` (s), ``smoothing`` (α in (0, 1]; 1 = raw measurements), ``gate`` (m),
+    """``coast_time`` (s), ``smoothing`` (α in (0, 1]; 1 = raw measurements),
+    ``standing_smoothing`` (the floor of α for standing people), ``gate`` (m),
     the detector ``pipeline`` (registry names, in order),
     ``detector_params`` (name → keyword overrides), ``hysteresis``, ``group_mode`` (mode of
     detected F-formations: ``join`` or ``lead``, the robot's task with a group)."""
 
     coast_time: float = 0.6
     smoothing: float = 0.2
+    standing_smoothing: float = 0.05
     gate: float = 1.0
     pipeline: tuple[str, ...] = DEFAULT_PIPELINE
     detector_params: dict[str, dict[str, Any]] = field(default_factory=dict)
@@ -119,17 +122,29 @@ class ContextEstimator:
     def reset(self) -> None:
         self.tracker.reset()
         self._last_seen: dict[int, tuple[float, Person]] = {}
+        self._standing: dict[int, int] = {}
 
     def _smooth(self, time: float, p: Person) -> Person:
         last = self._last_seen.get(p.id)
         a = self.params.smoothing
         if last is None or a >= 1.0 or time <= last[0]:
+            self._standing[p.id] = 0
             return p
         dt, q = time - last[0], last[1]
         pred = np.asarray(q.position) + dt * np.asarray(q.velocity)
         z = np.asarray(p.position, dtype=float)
         if np.hypot(*(z - pred)) > self.params.gate:
+            self._standing[p.id] = 0
             return p
+        standing = max(np.hypot(*p.velocity), np.hypot(*q.velocity)) < STANDING_SPEED
+        if standing:
+            # a standing person: the running mean of their observations (the Kalman gain of a
+            # static target, 1/n), floored at standing_smoothing so they can still move away
+            n = self._standing.get(p.id, 0) + 1
+            self._standing[p.id] = n
+            a = max(1.0 / (n + 1), self.params.standing_smoothing)
+        else:
+            self._standing[p.id] = 0
         x = pred + a * (z - pred)
         v = np.asarray(q.velocity) + a * (np.asarray(p.velocity) - np.asarray(q.velocity))
         turn = float(wrap_angle(p.yaw - q.yaw))
