@@ -59,6 +59,7 @@ class Group:
 
     @property
     def is_walking(self) -> bool:
+        """True for people moving together (``mode == "walking"``)."""
         return self.mode == "walking"
 
 

@@ -97,10 +97,12 @@ class PairCounts:
 
     @property
     def precision(self) -> float:
+        """``tp / (tp + fp)``; 1 when nothing was detected."""
         return self.tp / (self.tp + self.fp) if self.tp + self.fp else 1.0
 
     @property
     def recall(self) -> float:
+        """``tp / (tp + fn)``; 1 when there was nothing to find."""
         return self.tp / (self.tp + self.fn) if self.tp + self.fn else 1.0
 
 

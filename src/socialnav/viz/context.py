@@ -71,8 +71,8 @@ def plot_context(
             for art in est.context.artworks:
                 for v in art.viewer_ids:
                     if v in people:
-                        p = people[v].position
-                        ax.plot([p[0], art.center[0]], [p[1], art.center[1]], ":", color=color)
+                        at = people[v].position
+                        ax.plot([at[0], art.center[0]], [at[1], art.center[1]], ":", color=color)
         if pts.size:
             ax.annotate(
                 f"{s.kind} {s.confidence:.2f}",

@@ -57,6 +57,7 @@ class TrackFrame:
 
     @property
     def speeds(self) -> FloatArray:
+        """Speeds ``(K,)`` (m/s)."""
         return np.hypot(self.velocities[:, 0], self.velocities[:, 1])
 
     def standing(self, speed: float = STANDING_SPEED) -> np.ndarray:
@@ -118,7 +119,8 @@ class ParamDetector(Generic[P]):
     params_type: ClassVar[type]
 
     def __init__(self, params: P | None = None, **overrides: Any) -> None:
-        self.params: P = replace(params or self.params_type(), **overrides)
+        base: Any = params if params is not None else self.params_type()
+        self.params: P = replace(base, **overrides)
 
 
 def unclaimed(frame: TrackFrame, claimed: frozenset[int], mask: np.ndarray) -> np.ndarray:

@@ -120,6 +120,7 @@ class ContextEstimator:
         self.reset()
 
     def reset(self) -> None:
+        """Forget every track and structure (a new episode)."""
         self.tracker.reset()
         self._last_seen: dict[int, tuple[float, Person]] = {}
         self._standing: dict[int, int] = {}

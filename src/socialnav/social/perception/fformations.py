@@ -135,7 +135,8 @@ def facility_location(costs: FloatArray, opening: float, max_moves: int = 50) ->
         cur = np.minimum(cur, costs[:, j])
     total = cur.sum() + opening * open_.sum()
     for _ in range(max_moves):  # drop / swap
-        best_total, best_move = total, None
+        best_total = total
+        best_move: tuple[int, int | None] | None = None
         opened = np.flatnonzero(open_)
         for i in opened:
             rest = open_.copy()
@@ -145,7 +146,7 @@ def facility_location(costs: FloatArray, opening: float, max_moves: int = 50) ->
             if base is not None:
                 t_drop = base.sum() + opening * n_rest
                 if t_drop < best_total - 1e-9:
-                    best_total, best_move = t_drop, (i, None)
+                    best_total, best_move = t_drop, (int(i), None)
                 swapped = np.minimum(base[:, None], costs).sum(axis=0)
             else:
                 swapped = costs.sum(axis=0)
@@ -153,13 +154,13 @@ def facility_location(costs: FloatArray, opening: float, max_moves: int = 50) ->
             swapped[open_] = np.inf
             j = int(np.argmin(swapped))
             if swapped[j] < best_total - 1e-9:
-                best_total, best_move = float(swapped[j]), (i, j)
+                best_total, best_move = float(swapped[j]), (int(i), j)
         if best_move is None:
             break
-        i, j = best_move
-        open_[i] = False
-        if j is not None:
-            open_[j] = True
+        drop, add = best_move
+        open_[drop] = False
+        if add is not None:
+            open_[add] = True
         total = best_total
     return np.argmin(np.where(open_[None, :], costs, np.inf), axis=1)
 
@@ -239,6 +240,7 @@ class FFormationDetector(ParamDetector[FFormationParams]):
     def __call__(
         self, frame: TrackFrame, knowledge: MapKnowledge, claimed: frozenset[int]
     ) -> list[Candidate]:
+        """Candidates of one frame (see :data:`~socialnav.social.perception.base.Detector`)."""
         del knowledge
         idx = unclaimed(frame, claimed, frame.standing(self.params.standing_speed))
         pos, yaw = frame.positions[idx], frame.yaws[idx]

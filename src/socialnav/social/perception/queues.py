@@ -117,6 +117,7 @@ class QueueDetector(ParamDetector[QueueParams]):
     def __call__(
         self, frame: TrackFrame, knowledge: MapKnowledge, claimed: frozenset[int]
     ) -> list[Candidate]:
+        """Candidates of one frame (see :data:`~socialnav.social.perception.base.Detector`)."""
         p = self.params
         idx = unclaimed(frame, claimed, frame.standing(p.standing_speed))
         pos, yaw = frame.positions[idx], frame.yaws[idx]

@@ -49,6 +49,7 @@ class Track:
 
 
 def jaccard(a: tuple[int, ...], b: tuple[int, ...]) -> float:
+    """``|A ∩ B| / |A ∪ B|`` of two member sets (0 when both are empty)."""
     sa, sb = set(a), set(b)
     return len(sa & sb) / len(sa | sb) if sa | sb else 0.0
 
@@ -61,6 +62,7 @@ class StructureTracker:
         self.reset()
 
     def reset(self) -> None:
+        """Drop every track."""
         self.tracks: list[Track] = []
         self._next_id = 0
         self._time: float | None = None

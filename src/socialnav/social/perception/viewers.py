@@ -49,6 +49,7 @@ class ViewerDetector(ParamDetector[ViewerParams]):
     def __call__(
         self, frame: TrackFrame, knowledge: MapKnowledge, claimed: frozenset[int]
     ) -> list[Candidate]:
+        """Candidates of one frame (see :data:`~socialnav.social.perception.base.Detector`)."""
         p = self.params
         idx = unclaimed(frame, claimed, frame.standing(p.standing_speed))
         out: list[Candidate] = []

@@ -50,6 +50,7 @@ class WalkingGroupDetector(ParamDetector[WalkingGroupParams]):
     def __call__(
         self, frame: TrackFrame, knowledge: MapKnowledge, claimed: frozenset[int]
     ) -> list[Candidate]:
+        """Candidates of one frame (see :data:`~socialnav.social.perception.base.Detector`)."""
         del knowledge
         p = self.params
         idx = unclaimed(frame, claimed, frame.speeds >= p.min_speed)
