@@ -75,6 +75,9 @@ def run(
     switch_distance: Annotated[
         float | None, typer.Option(help="--crowd: people this close (m) switch to navground HL.")
     ] = None,
+    context: Annotated[
+        str, typer.Option(help="given (the scenario's structures) or detected (noisy tracks).")
+    ] = "given",
 ) -> None:
     """Run one scenario (or a recorded crowd) with one planner; write trajectories, metrics and
     a figure."""
@@ -98,6 +101,7 @@ def run(
             fmt=fmt,
             video=video,
             progress=lambda line: typer.echo(line, err=True),
+            context=context,
         )
     except ConfigurationError as exc:
         _fail(str(exc))
@@ -239,6 +243,13 @@ def compare(
         str | None,
         typer.Option(help="Join a running cluster: Dask scheduler tcp://HOST:8786, Ray auto."),
     ] = None,
+    context: Annotated[
+        str,
+        typer.Option(
+            help="given (the scenario's groups, queues, viewers), detected (noisy tracks and "
+            "the context estimator), or both (side by side in the report)."
+        ),
+    ] = "given",
 ) -> None:
     """The main job: every scenario × planner × robot, into a Markdown/HTML report with figures."""
     from socialnav.core.errors import ConfigurationError
@@ -252,6 +263,9 @@ def compare(
 
     if suite not in ("paper", "reactive", "randomized", "crowds"):
         _fail(f"unknown suite {suite!r}; use paper, reactive, randomized or crowds")
+    contexts = {"given": ("given",), "detected": ("detected",), "both": ("given", "detected")}
+    if context not in contexts:
+        _fail(f"unknown context {context!r}; use given, detected or both")
     try:
         check_backend(backend, address)
         planner_names = _split(planners) or compared_planners()
@@ -281,6 +295,7 @@ def compare(
             planner_names,
             _split(robots),
             None if seeds is None else parse_seeds(seeds),
+            contexts=contexts[context],
         )
     except ConfigurationError as exc:
         _fail(str(exc))
@@ -320,6 +335,28 @@ def report(
         path = build_report(selected, results_dir, suite=suite)
     failed = sum(1 for r in selected if r.get("error"))
     typer.echo(f"{len(selected)} runs ({failed} errors) → {path}")
+
+
+@app.command()
+def detect(
+    source: Annotated[
+        str, typer.Argument(help="Episode folder (from run/compare), built-in scenario or YAML.")
+    ],
+    out: Annotated[Path, typer.Option(help="Output folder.")] = Path("detect"),
+    noise: Annotated[str, typer.Option(help="Perception noise: default or none.")] = "default",
+    seed: Annotated[int, typer.Option(help="Seed of the perception noise.")] = 0,
+) -> None:
+    """Estimate the social context over a recording or a scenario: structures.parquet and a
+    picture."""
+    from socialnav.core.errors import ConfigurationError
+    from socialnav.experiments.detect import detect_file
+
+    try:
+        summary = detect_file(source, out, noise=noise, seed=seed)
+    except ConfigurationError as exc:
+        _fail(str(exc))
+        return
+    typer.echo(json.dumps(summary, indent=1))
 
 
 @app.command()

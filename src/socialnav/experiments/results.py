@@ -20,9 +20,9 @@ metadata holds its ``unit``, ``direction`` (``min``: lower is better) and ``desc
 in the file's key-value metadata ``socialnav_columns``, a JSON object by column); one
 boolean ``ok_<condition>`` per success condition of the family (overall success is the metric
 ``success``, stored once); ``error`` (null when the episode ran) and the timing columns
-``wall_time_s`` and ``planner_ms_median``, which are the only ones that differ between two runs of
-the same spec. Crowd rows (``--suite crowds``) hold the recording ``data`` and
-``switch_distance`` in place of the scenario spec, the episode's ``t0``, ``flow``,
+``wall_time_s``, ``planner_ms_median`` and ``estimator_ms_median``, which are the only ones that
+differ between two runs of the same spec. Crowd rows (``--suite crowds``) hold the recording
+``data`` and ``switch_distance`` in place of the scenario spec, the episode's ``t0``, ``flow``,
 ``people_near`` and ``people_total``, and the timings ``planner_ms_p95`` and
 ``planner_ms_steps`` (every cycle, so a report pools percentiles over steps).
 """
@@ -47,12 +47,13 @@ PART_FILE = "part-0.parquet"
 FRAGMENT_PREFIX = "ep-"
 PARTITION_KEYS = ("suite", "planner", "robot")
 CONDITION_PREFIX = "ok_"
-TIMING_COLUMNS = ("wall_time_s", "planner_ms_median")
+TIMING_COLUMNS = ("wall_time_s", "planner_ms_median", "estimator_ms_median")
 #: the crowd suite's further timing columns (``socialnav.experiments.crowd``)
 CROWD_TIMING_COLUMNS = ("planner_ms_p95", "planner_ms_steps")
 _TIMING_META = {
     "wall_time_s": ("s", "min", "Wall-clock time of the whole episode on its worker."),
     "planner_ms_median": ("ms", "min", "Median time of one planning cycle (our planners only)."),
+    "estimator_ms_median": ("ms", "min", "Median time of one context estimate (detected only)."),
     "planner_ms_p95": ("ms", "min", "95th percentile of the planning cycle (crowd suite)."),
 }
 LEGACY_FILE = "results.parquet"

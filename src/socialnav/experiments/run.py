@@ -78,9 +78,11 @@ def run_single(
     out: Path = Path("out"),
     fmt: str = "parquet",
     video: str = "none",
+    context: str = "given",
     progress: Callable[[str], None] | None = None,
 ) -> dict[str, Any]:
-    """Run, measure and draw one episode into ``out``; returns a summary dict.
+    """Run, measure and draw one episode into ``out``; returns a summary dict. ``context``:
+    ``given`` or ``detected`` (see :func:`socialnav.sim.runner.run_episode`).
 
     ``progress`` receives one line as each stage starts and ends (the episode, the files, the
     figures, the video), so a person sees what the command is doing.
@@ -99,8 +101,12 @@ def run_single(
         raise ConfigurationError(f"unknown human model {humans!r}; use scripted or reactive")
     if video not in ("none", "gif", "mp4"):
         raise ConfigurationError(f"unknown video format {video!r}; use none, gif or mp4")
+    if context not in ("given", "detected"):
+        raise ConfigurationError(f"unknown context {context!r}; use given or detected")
+    spec = EpisodeSpec(
+        scenario=scenario, planner=planner, robot=robot, seed=seed, humans=humans, context=context
+    )
     say = progress or (lambda line: None)
-    spec = EpisodeSpec(scenario=scenario, planner=planner, robot=robot, seed=seed, humans=humans)
     say(f"running {spec.scenario} with {planner} on {robot} (seed {seed}) …")
     result = run_planner_episode(spec, record_diagnostics=True)
     record = result.record
