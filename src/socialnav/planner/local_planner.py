@@ -57,6 +57,8 @@ class PlannerStatus(StrEnum):
     INVALID_INPUT = "INVALID_INPUT"
     NO_PATH = "NO_PATH"
     CRITIC_UNAVAILABLE = "CRITIC_UNAVAILABLE"
+    WAITING = "WAITING"
+    EVADING = "EVADING"
 
 
 @dataclass(frozen=True)
