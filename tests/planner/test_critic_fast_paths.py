@@ -81,6 +81,10 @@ def _random_world(rng, robot):
     geom = GridGeometry(shape, res, origin)
     centre = np.array(origin) + 0.5 * res * np.array(shape[::-1])
     pose = np.array([*centre, rng.uniform(-np.pi, np.pi)])
+    # The start pose itself is collision-free (a start in collision takes the escape rule).
+    xs, ys = geom.cell_centers()
+    near = np.hypot(xs - centre[0], ys - centre[1]) <= robot.circumscribed_radius + 2 * res
+    costs[near & (costs >= INSCRIBED)] = 0
     return Costmap(costs, geom), pose
 
 

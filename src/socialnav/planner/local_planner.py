@@ -28,6 +28,7 @@ import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from enum import StrEnum
+from typing import Any, Protocol
 
 import numpy as np
 
@@ -215,6 +216,16 @@ def _valid_inputs(ctx: PlanningContext) -> str:
     return ""
 
 
+class ObjectiveSet(Protocol):
+    """The objective set of one cycle, resolved from what is in view (people, groups, queues,
+    artworks, social goal): ``resolve(ctx) -> (objectives, selection)``; the same instances
+    are returned while the set is unchanged, so critic and selection state persists."""
+
+    def resolve(self, ctx: PlanningContext) -> tuple[Sequence[Objective], Any]: ...
+
+    def reset(self) -> None: ...
+
+
 @dataclass
 class _Cycle:
     timing: dict[str, float] = field(default_factory=dict)
@@ -233,8 +244,10 @@ class LocalPlanner:
         objectives: Sequence[Objective],
         selection: object,
         params: LocalPlannerParams | None = None,
+        objective_set: ObjectiveSet | None = None,
     ) -> None:
         self.robot = robot
+        self.objective_set = objective_set
         self.objectives = tuple(objectives)
         if not self.objectives or not all(isinstance(o, Objective) for o in self.objectives):
             raise ConfigurationError("objectives must be a non-empty sequence of Objective")
@@ -249,12 +262,15 @@ class LocalPlanner:
 
     def reset(self) -> None:
         self._latched = False
+        self._latch_radius = 0.0
         self._rotating = False
         self._goal: FloatArray | None = None
         self._oscillation.reset()
         for obj in self.objectives:
             for critic, _ in obj.terms:
                 critic.reset()
+        if self.objective_set is not None:
+            self.objective_set.reset()
 
     # ---- public ---------------------------------------------------------------------------
     def plan(self, ctx: PlanningContext, record: bool = False) -> PlannerResult:
@@ -269,10 +285,19 @@ class LocalPlanner:
             return self._result(
                 ctx, _zero(), PlannerStatus.NO_PATH, "empty global plan", record, None, start
             )
+        if self.objective_set is not None:
+            objectives, selection = self.objective_set.resolve(ctx)
+            self.objectives, self.selection = tuple(objectives), selection
         cycle = _Cycle()
         self._track_goal(ctx.goal)
         xy_tol, yaw_tol = self._tolerances(ctx)
         dist = float(np.hypot(*(ctx.goal[:2] - ctx.pose[:2])))
+        if self._latched and dist > self._latch_radius:
+            # Moved beyond the tolerance (pushed, or backed up by a recovery): not at the goal.
+            self._latched = self._rotating = False
+        if not self._latched and dist <= xy_tol:
+            # The latch holds while the robot brakes: tolerance + braking distance, at least 2×.
+            self._latch_radius = max(2.0 * xy_tol, xy_tol + self._stopping_distance(ctx))
         if self._latched or dist <= xy_tol:
             self._latched = self.params.latch_xy_goal_tolerance
         else:
@@ -295,6 +320,15 @@ class LocalPlanner:
             self._latched = False
             self._rotating = False
             self._oscillation.reset()
+
+    def _stopping_distance(self, ctx: PlanningContext) -> float:
+        """Braking distance (m) from the measured speed at the acceleration limits, plus one
+        control period of travel: how far a latched robot may still overshoot."""
+        v = np.asarray(ctx.velocity, dtype=float)
+        r, dt = self.robot, self.params.controller_period
+        speed = float(np.hypot(v[0], v[1]))
+        acc = max(min(r.acc_lim_x, r.acc_lim_y) if r.holonomic else r.acc_lim_x, 1e-6)
+        return speed * speed / (2.0 * acc) + speed * dt + 1e-6
 
     def _tolerances(self, ctx: PlanningContext) -> tuple[float, float]:
         sg = ctx.social_goal

@@ -83,6 +83,20 @@ def resolve_target(scenario: Scenario, social: SocialContext) -> Target:
     return Target(pose, None, meta)
 
 
+def _driven_target(target: Target, ctrl: Any) -> Target:
+    """The target the controller actually drove to: a goal inside an obstacle is replaced by
+    the navigator's reachable substitute (navfn ``default_tolerance``), and success is measured
+    against that same point."""
+    resolved = getattr(ctrl, "resolved_goal", None)
+    if resolved is None or target.waypoint is not None:
+        return target
+    resolved = np.asarray(resolved, dtype=float)
+    if np.allclose(resolved[:2], target.pose[:2]):
+        return target
+    meta = {**target.meta, "goal_substitute": [float(resolved[0]), float(resolved[1])]}
+    return Target(np.array([resolved[0], resolved[1], target.pose[2]]), None, meta)
+
+
 def _robot_model(robot: RobotModel | str) -> RobotModel:
     if isinstance(robot, RobotModel):
         return robot
@@ -147,9 +161,11 @@ def run_episode(
         )
         planner_name = controller
         ctrl_behavior = None
+        driver: Any = None
     else:
         ctrl, planner_name = _controller(controller, controller_params)
         ctrl.reset(scn, model)
+        driver = ctrl
         ctrl_behavior = ControllerBehavior()
         ctrl_behavior.controller = ctrl
         ctrl_behavior.robot_model = model
@@ -195,6 +211,7 @@ def run_episode(
             reason = "goal_reached"
             break
 
+    target = _driven_target(target, driver)
     record = recorder.build(
         dt=dt,
         robot_radius=model.circumscribed_radius,

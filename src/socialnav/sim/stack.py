@@ -56,6 +56,11 @@ class StackController:
         return ControlOutput(result.cmd, str(result.status.value), result if self.record else None)
 
     @property
+    def resolved_goal(self) -> FloatArray | None:
+        """The goal the navigator plans to (a reachable substitute for a blocked goal)."""
+        return None if self.navigator is None else self.navigator.resolved_goal
+
+    @property
     def median_plan_ms(self) -> float:
         return float(np.median(self.plan_seconds) * 1e3) if self.plan_seconds else float("nan")
 

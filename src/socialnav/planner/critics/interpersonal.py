@@ -20,7 +20,9 @@ Deviations and choices:
 - Collisions: a trajectory whose footprint disc (``footprint_disc`` radius: the inscribed circle
   by default — the occupancy critic handles corners against walls; choose ``circumscribed`` to be
   conservative) overlaps a person's disc at any rollout time (people forecast by
-  ``ctx.people_at``) is illegal, reason ``person_collision``.
+  ``ctx.people_at``) is illegal, reason ``person_collision`` — except against a person already
+  overlapping it now, where only a trajectory that ever gets closer to them is (escape from
+  overlap: the robot can always drive away from someone touching it).
 - Speed, not behaviour: the per-time distances enter only through their minimum over time
   (``f`` is non-increasing; a collision at some time is ``min d² < r²``), so the ``(N, K)``
   minimum is computed once per cycle and shared by every interpersonal critic (the paper's
@@ -180,5 +182,16 @@ class InterpersonalCritic(Critic):
         if self.collision_check:
             # any over time of d² < r² is (min over time of d²) < r²
             assert d2min is not None
-            illegal["person_collision"] = (d2min < (radii + robot_r) ** 2).any(axis=1)
+            r2 = (radii + robot_r) ** 2
+            hit = d2min < r2  # (N, K)
+            touching = ((people_now - ctx.pose[:2]) ** 2).sum(axis=1) < r2  # (K,)
+            if touching.any():
+                # Escape from overlap: against a person already touching the robot, only
+                # trajectories that get closer to them are collisions.
+                forecast = ctx.people_at(trajs.t)
+                hit = hit.copy()
+                for j in np.flatnonzero(touching):
+                    dj = ((xy - forecast[None, :, j]) ** 2).sum(axis=-1)  # (N, T)
+                    hit[:, j] = ~np.all(np.diff(dj, axis=1) >= -1e-12, axis=1)
+            illegal["person_collision"] = hit.any(axis=1)
         return CriticScore(np.ascontiguousarray(cost, dtype=float), illegal)

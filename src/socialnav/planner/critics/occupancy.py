@@ -29,6 +29,12 @@ Decisions and deviations:
   ``ρ >= D - √2`` (the pose and the hit point are each within ``√2 / 2`` cells of their cell
   centres), so a pose is checked only against the outline points that far out — none when
   ``D > max ρ + √2``. Skipping a point that cannot hit never changes the result.
+- Escape from overlap: when the current pose is already in collision (a person stepped into
+  the footprint), every rollout would be ``collision``. Then a trajectory is legal instead when
+  its clearance never decreases: the clearance of a pose is the smallest signed distance (m,
+  from a distance transform of the LETHAL cells: positive outside, negative inside) over its
+  footprint outline, and the centre's signed distance minus the inscribed radius, so driving
+  away from someone touching the robot is always possible; pushing deeper is not.
 - Exact early exit: a trajectory whose outline hit a LETHAL cell is ``collision`` whatever its
   later poses do, so poses are checked in time chunks and such trajectories are dropped (an
   UNKNOWN hit does not stop the check: a later LETHAL hit still makes the reason
@@ -124,6 +130,10 @@ class OccupancyCritic(Critic):
             hit, unk = _outline_hits(ctx, poses, need)
             collision |= hit
             unknown |= unk
+        if collision.any() and _start_in_collision(ctx, trajs.poses[0, 0], self.footprint):
+            # Escape from overlap: starting in collision, a trajectory that never reduces its
+            # clearance is legal (module docstring), so the robot can always back away.
+            collision = ~_never_closer(ctx, trajs.poses, self.footprint)
         illegal = collision | unknown
         if self.meter_scoring:
             worst = worst * geom.resolution
@@ -137,6 +147,59 @@ _CLEARANCE_MARGIN = 0.05
 # Steps per early-exit chunk: trajectories with a LETHAL hit are dropped between chunks.
 _CHUNK_STEPS = 8
 _HIT, _UNSEEN = np.uint8(1), np.uint8(2)
+
+
+def _start_in_collision(ctx: PlanningContext, pose: FloatArray, footprint: bool) -> bool:
+    """Whether the pose ``(3,)`` is in collision by this critic's rules (centre or outline)."""
+    geom = ctx.costmap.geometry
+    rc = geom.world_to_cell(np.asarray(pose[:2], dtype=float))
+    if not geom.in_bounds(rc):
+        return False
+    centre = int(ctx.costmap.costs[rc[0], rc[1]])
+    if INSCRIBED <= centre < UNKNOWN:
+        return True
+    if not footprint:
+        return False
+    if "occupancy_outline" not in ctx.extras:
+        _prepare_outline(ctx)
+    need = np.full((1, 1), ctx.extras["occupancy_outline"].shape[0], dtype=np.intp)
+    hit, _ = _outline_hits(ctx, np.asarray(pose, dtype=float)[None, None], need)
+    return bool(hit[0])
+
+
+def _never_closer(ctx: PlanningContext, poses: FloatArray, footprint: bool) -> NDArray[np.bool_]:
+    """``(N,)``: the clearance of ``poses (N, T, 3)`` never decreases along the trajectory."""
+    geom = ctx.costmap.geometry
+    res = geom.resolution
+    sdf = ctx.extras.get("occupancy_sdf")
+    if sdf is None:
+        lethal = ctx.costmap.costs == LETHAL
+        if lethal.all() or not lethal.any():
+            sdf = np.where(lethal, -res, np.inf)
+        else:
+            sdf = (distance_transform_edt(~lethal) - distance_transform_edt(lethal)) * res
+        ctx.extras["occupancy_sdf"] = sdf
+    rows, cols = geom.shape
+    inv = 1.0 / res
+    p = poses.astype(float)
+
+    def lookup(x: FloatArray, y: FloatArray) -> FloatArray:
+        col = np.floor((x - geom.origin[0]) * inv).astype(np.intp)
+        row = np.floor((y - geom.origin[1]) * inv).astype(np.intp)
+        inside = (row >= 0) & (row < rows) & (col >= 0) & (col < cols)
+        value = sdf[np.clip(row, 0, rows - 1), np.clip(col, 0, cols - 1)]
+        return np.where(inside, value, -np.inf)
+
+    clear = lookup(p[..., 0], p[..., 1]) - ctx.robot.inscribed_radius  # (N, T)
+    if footprint:
+        if "occupancy_outline" not in ctx.extras:
+            _prepare_outline(ctx)
+        o = ctx.extras["occupancy_outline"]  # (K, 2)
+        c, s = np.cos(p[..., 2:3]), np.sin(p[..., 2:3])
+        x = p[..., 0:1] + c * o[:, 0] - s * o[:, 1]  # (N, T, K)
+        y = p[..., 1:2] + s * o[:, 0] + c * o[:, 1]
+        clear = np.minimum(clear, lookup(x, y).min(axis=-1))
+    return np.all(np.diff(clear, axis=1) >= -1e-9, axis=1)
 
 
 def _prepare_outline(ctx: PlanningContext) -> None:
