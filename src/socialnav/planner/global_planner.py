@@ -24,6 +24,7 @@ LETHAL (or off-map) start is ``START_BLOCKED``.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import lru_cache
 from typing import Literal
 
 import numpy as np
@@ -80,10 +81,7 @@ def grid_graph(
     c = costs.astype(np.float64)
     pad_ok = np.pad(passable, 1, constant_values=False)
     pad_c = np.pad(c, 1)
-    rr = np.arange(rows)[:, None]
-    cc = np.arange(cols)[None, :]
     weights = np.full((rows, cols, 8), np.inf)
-    index = np.empty((rows, cols, 8), dtype=np.int32 if n < 2**31 else np.int64)
     for k, (dr, dc) in enumerate(_OFFSETS):
         nb = (slice(1 + dr, 1 + dr + rows), slice(1 + dc, 1 + dc + cols))
         ok = passable & pad_ok[nb]
@@ -93,10 +91,25 @@ def grid_graph(
         step = resolution * float(np.hypot(dr, dc))
         w = step * (neutral_cost + cost_factor * 0.5 * (c + pad_c[nb]))
         weights[..., k] = np.where(ok, w, np.inf)
+    index, indptr = _grid_structure(rows, cols)
+    return csr_array((weights.reshape(-1), index.reshape(-1), indptr), shape=(n, n))
+
+
+@lru_cache(maxsize=8)
+def _grid_structure(rows: int, cols: int) -> tuple[NDArray[np.integer], NDArray[np.integer]]:
+    """The CSR column indices ``(rows, cols, 8)`` and row pointers of the 8-slot grid graph:
+    they depend on the shape only, so replanning on the same map reuses them (read-only)."""
+    n = rows * cols
+    rr = np.arange(rows)[:, None]
+    cc = np.arange(cols)[None, :]
+    index = np.empty((rows, cols, 8), dtype=np.int32 if n < 2**31 else np.int64)
+    for k, (dr, dc) in enumerate(_OFFSETS):
         # Border slots point at a clipped (valid) node; their weight is inf, so never used.
         index[..., k] = np.clip(rr + dr, 0, rows - 1) * cols + np.clip(cc + dc, 0, cols - 1)
     indptr = np.arange(0, 8 * n + 1, 8, dtype=index.dtype)
-    return csr_array((weights.reshape(-1), index.reshape(-1), indptr), shape=(n, n))
+    index.setflags(write=False)
+    indptr.setflags(write=False)
+    return index, indptr
 
 
 def plan_path(

@@ -346,8 +346,9 @@ class Navigator:
             if self.global_layer is not None:
                 costmap = self.global_layer(costmap, on_map)
             plan = plan_path(costmap, pose[:2], target[:2], tolerance=0.5 * self.robot.circumscribed_radius)
-            if plan.status != "OK" and costmap is not self.costmap:
-                # Blocked only by people: keep the static plan; the local planner waits.
+            if plan.status != "OK" and costmap is not self.costmap and (changed or self._path is None):
+                # Blocked only by people: follow the static plan; the local planner waits.
+                # (With a plan to this target already, it is kept below.)
                 static = plan_path(self.costmap, pose[:2], target[:2])
                 plan = static if static.status == "OK" else plan
             self.last_plan_status = plan.status
