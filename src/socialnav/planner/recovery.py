@@ -20,8 +20,10 @@ Behaviour (parameters in :class:`RecoveryParams`, ROS/Nav2 names, budgets in sec
   when it keeps a larger gap than the planner's own command.
 - **Waiting** (status ``WAITING``, zero command; the navigator decelerates it within the
   acceleration limits and replans): when no trajectory is legal, or the legal ones make no
-  progress, and a person is within ``person_blocking_distance`` m (footprint circle to person
-  disc) of the robot. No recovery runs then, so the robot never backs into someone.
+  progress, and a person blocks: within ``person_blocking_distance`` m (footprint circle to
+  person disc) of the robot, or standing on the next ``person_blocking_lookahead`` m of the
+  global plan (their disc within the robot's circumscribed radius of it). No recovery runs
+  then, so the robot never backs into someone.
 - **Recoveries** (status ``RECOVERING``) otherwise, up to ``max_recoveries`` in a row: (1) rotate
   in place toward the freest direction — the heading, among ``num_headings``, whose ray from
   the robot stays clear of INSCRIBED/LETHAL/UNKNOWN cells the longest (up to
@@ -76,6 +78,7 @@ class RecoveryParams:
     controller_patience: float = 30.0
     max_recoveries: int = 5
     person_blocking_distance: float = 1.0
+    person_blocking_lookahead: float = 3.0
     evasion_ttc: float = 1.5
     evasion_horizon: float = 2.0
     evasion_min_person_speed: float = 0.3
@@ -190,11 +193,11 @@ class RecoveringPlanner:
             if legal:
                 return PlannerResult(result.cmd, PlannerStatus.STUCK, result.record, why)
             return PlannerResult(np.zeros(3), PlannerStatus.STUCK, result.record, why)
-        gaps = person_gaps(ctx)
-        if gaps.size and gaps.min() <= p.person_blocking_distance:
-            k = int(np.argmin(gaps))
+        blocker = self._blocking_person(ctx)
+        if blocker is not None:
+            k, gap = blocker
             who = ctx.social.people[k].id
-            why = f"waiting for person {who} ({gaps[k]:.2f} m away): {result.message or 'blocked'}"
+            why = f"waiting for person {who} ({gap:.2f} m away): {result.message or 'blocked'}"
             return PlannerResult(np.zeros(3), PlannerStatus.WAITING, result.record, why)
         if self._recoveries >= p.max_recoveries:
             if legal:
@@ -212,6 +215,24 @@ class RecoveringPlanner:
             cmd = np.zeros(3)
         why = f"recovery after: {result.message or 'no progress'}"
         return PlannerResult(cmd, PlannerStatus.RECOVERING, result.record, why)
+
+    def _blocking_person(self, ctx: PlanningContext) -> tuple[int, float] | None:
+        """``(index, gap m)`` of the person blocking the robot (module docstring), or None."""
+        gaps = person_gaps(ctx)
+        if not gaps.size:
+            return None
+        p, r = self.params, self.robot
+        blocking = gaps <= p.person_blocking_distance
+        path = np.asarray(ctx.global_path, dtype=float).reshape(-1, 2)
+        if path.shape[0] and not blocking.all():
+            s = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(path, axis=0).T))])
+            ahead = path[s <= p.person_blocking_lookahead]
+            d = np.hypot(*(ahead[None] - ctx.social.positions()[:, None]).transpose(2, 0, 1))
+            blocking |= d.min(axis=1) <= ctx.social.radii() + r.circumscribed_radius
+        if not blocking.any():
+            return None
+        k = int(np.argmin(np.where(blocking, gaps, np.inf)))
+        return k, float(gaps[k])
 
     # ---- evasion --------------------------------------------------------------------------
     def _evasion(self, ctx: PlanningContext, result: PlannerResult) -> PlannerResult | None:
