@@ -168,7 +168,11 @@ def _start_in_collision(ctx: PlanningContext, pose: FloatArray, footprint: bool)
 
 
 def _never_closer(ctx: PlanningContext, poses: FloatArray, footprint: bool) -> NDArray[np.bool_]:
-    """``(N,)``: the clearance of ``poses (N, T, 3)`` never decreases along the trajectory."""
+    """``(N,)``: the clearance of ``poses (N, T, 3)`` never decreases along the trajectory.
+
+    Checked in time chunks; a trajectory is dropped at its first decrease (rare work: only when
+    the robot starts in collision). The outline is sampled at the cell size here.
+    """
     geom = ctx.costmap.geometry
     res = geom.resolution
     sdf = ctx.extras.get("occupancy_sdf")
@@ -181,25 +185,38 @@ def _never_closer(ctx: PlanningContext, poses: FloatArray, footprint: bool) -> N
         ctx.extras["occupancy_sdf"] = sdf
     rows, cols = geom.shape
     inv = 1.0 / res
-    p = poses.astype(float)
+    flat_sdf = sdf.ravel()
+    outline = footprint_outline(ctx.robot.polygon, res) if footprint else np.zeros((0, 2))
 
-    def lookup(x: FloatArray, y: FloatArray) -> FloatArray:
+    def clearance(p: FloatArray) -> FloatArray:
+        """``(M, S)`` clearance of poses ``(M, S, 3)``."""
+        x = p[..., 0:1]
+        y = p[..., 1:2]
+        if outline.shape[0]:
+            c, s = np.cos(p[..., 2:3]), np.sin(p[..., 2:3])
+            x = np.concatenate([x, p[..., 0:1] + c * outline[:, 0] - s * outline[:, 1]], axis=-1)
+            y = np.concatenate([y, p[..., 1:2] + s * outline[:, 0] + c * outline[:, 1]], axis=-1)
         col = np.floor((x - geom.origin[0]) * inv).astype(np.intp)
         row = np.floor((y - geom.origin[1]) * inv).astype(np.intp)
         inside = (row >= 0) & (row < rows) & (col >= 0) & (col < cols)
-        value = sdf[np.clip(row, 0, rows - 1), np.clip(col, 0, cols - 1)]
-        return np.where(inside, value, -np.inf)
+        value = flat_sdf.take(np.clip(row, 0, rows - 1) * cols + np.clip(col, 0, cols - 1))
+        value = np.where(inside, value, -np.inf)
+        value[..., 0] -= ctx.robot.inscribed_radius
+        return value.min(axis=-1)
 
-    clear = lookup(p[..., 0], p[..., 1]) - ctx.robot.inscribed_radius  # (N, T)
-    if footprint:
-        if "occupancy_outline" not in ctx.extras:
-            _prepare_outline(ctx)
-        o = ctx.extras["occupancy_outline"]  # (K, 2)
-        c, s = np.cos(p[..., 2:3]), np.sin(p[..., 2:3])
-        x = p[..., 0:1] + c * o[:, 0] - s * o[:, 1]  # (N, T, K)
-        y = p[..., 1:2] + s * o[:, 0] + c * o[:, 1]
-        clear = np.minimum(clear, lookup(x, y).min(axis=-1))
-    return np.all(np.diff(clear, axis=1) >= -1e-9, axis=1)
+    n, steps = poses.shape[:2]
+    ok = np.ones(n, dtype=bool)
+    alive = np.arange(n)
+    prev = clearance(poses[:, :1].astype(float))[:, 0]
+    for t0 in range(1, steps, _CHUNK_STEPS):
+        if not alive.size:
+            break
+        block = clearance(poses[alive, t0 : t0 + _CHUNK_STEPS].astype(float))  # (M, S)
+        seq = np.concatenate([prev[:, None], block], axis=1)
+        good = np.all(np.diff(seq, axis=1) >= -1e-9, axis=1)
+        ok[alive[~good]] = False
+        alive, prev = alive[good], block[good, -1]
+    return ok
 
 
 def _prepare_outline(ctx: PlanningContext) -> None:
