@@ -26,6 +26,7 @@ columns.
 from __future__ import annotations
 
 import argparse
+import sys
 import time
 from collections import Counter
 from dataclasses import dataclass, field
@@ -217,6 +218,7 @@ def main() -> None:
     parser.add_argument("--calls", type=int, default=100_000)
     parser.add_argument("--session", type=int, default=200)
     parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--progress", type=int, default=0, help="interim table every N calls")
     parser.add_argument("--maps", default=",".join(MAPS), help="scenarios whose maps are used")
     args = parser.parse_args()
     names = tuple(args.maps.split(","))
@@ -237,11 +239,16 @@ def main() -> None:
         per_preset[preset].add(fuzz_session(preset, robot, costmap[robot.name], rng, n))
         done += n
         session += 1
+        if args.progress and done % args.progress < n and done < args.calls:
+            report(per_preset, done, args.seed, time.perf_counter() - started)  # interim
+    report(per_preset, done, args.seed, time.perf_counter() - started)
+
+
+def report(per_preset: dict[str, Tally], done: int, seed: int, wall: float) -> None:
     total = Tally()
     for t in per_preset.values():
         total.add(t)
-    wall = time.perf_counter() - started
-    print(f"\n## Navigator.step fuzzing: {done} calls, seed {args.seed}, {wall:.0f} s wall\n")
+    print(f"\n## Navigator.step fuzzing: {done} calls, seed {seed}, {wall:.0f} s wall\n")
     print(
         "| preset | calls | exceptions | non-finite cmd | beyond limits | INVALID_INPUT on valid "
         "| contexts rejected (dup. ids) | p50 | p99.9 | max |"
@@ -259,6 +266,7 @@ def main() -> None:
     print("\nstatuses: " + ", ".join(f"{k} {v}" for k, v in sorted(total.statuses.items())))
     for line in total.examples:
         print(f"- {line}")
+    sys.stdout.flush()
 
 
 if __name__ == "__main__":
