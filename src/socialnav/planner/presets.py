@@ -30,7 +30,6 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any
 
 import numpy as np
 
@@ -54,6 +53,7 @@ from socialnav.planner.context import PlanningContext
 from socialnav.planner.navigator import Navigator
 from socialnav.planner.objectives import Objective
 from socialnav.planner.recovery import RecoveringPlanner, RecoveryParams
+from socialnav.social.goals import SocialGoal
 from socialnav.world.grid import Costmap
 
 # The reference navigation code's scalarization weights, by objective kind.
@@ -70,7 +70,8 @@ LOCAL_WINDOW = 5.0
 
 @dataclass(frozen=True)
 class PlannerPreset:
-    """How to build one named planner; ``objectives`` maps a scene to objectives + weights."""
+    """How to build one named planner; ``objectives`` maps a scene to objectives + weights;
+    ``order`` places it in listings and reports (ascending, baselines first)."""
 
     description: str
     objectives: Callable[[SocialContext, bool, LocalPlannerParams], list[tuple[Objective, float]]]
@@ -80,6 +81,7 @@ class PlannerPreset:
     social_global_path: bool = False
     predict_people: bool = True
     params: LocalPlannerParams = field(default_factory=LocalPlannerParams)
+    order: int = 1000
     recovery: RecoveryParams = field(default_factory=RecoveryParams)
 
 
@@ -168,7 +170,10 @@ def single_weight(weights: list[float]) -> SelectionStrategy:
 PRESETS.add(
     "traditional",
     PlannerPreset(
-        "ROS trajectory rollout, weighted sum, no social terms", navigation_only, single_weight
+        "ROS trajectory rollout, weighted sum, no social terms",
+        navigation_only,
+        single_weight,
+        order=10,
     ),
 )
 PRESETS.add(
@@ -178,6 +183,7 @@ PRESETS.add(
         navigation_only,
         single_weight,
         proxemic_layer=True,
+        order=20,
     ),
 )
 PRESETS.add(
@@ -187,6 +193,7 @@ PRESETS.add(
         recommended_objectives,
         weighted_sum,
         social_goal=True,
+        order=30,
     ),
 )
 PRESETS.add(
@@ -197,6 +204,7 @@ PRESETS.add(
         paper_selection,
         social_goal=True,
         predict_people=False,
+        order=70,
     ),
 )
 PRESETS.add(
@@ -207,6 +215,7 @@ PRESETS.add(
         recommended_selection,
         social_goal=True,
         social_global_path=True,
+        order=80,
     ),
 )
 
@@ -222,9 +231,11 @@ class StickySocialGoal:
     def __init__(self, moved: float = 0.3) -> None:
         self.moved = moved
         self._positions: np.ndarray | None = None
-        self._goal: Any = None
+        self._goal: SocialGoal | None = None
 
-    def __call__(self, social: SocialContext, given_goal: np.ndarray, pose: np.ndarray) -> Any:
+    def __call__(
+        self, social: SocialContext, given_goal: np.ndarray, pose: np.ndarray
+    ) -> SocialGoal | None:
         from socialnav.social.resolve import resolve_social_goal
 
         positions = social.positions()

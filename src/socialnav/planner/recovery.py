@@ -50,7 +50,9 @@ from socialnav.planner.context import PlanningContext
 from socialnav.planner.critics.occupancy import OccupancyCritic
 from socialnav.planner.evasion import evasion_gaps, evasion_twists, time_to_collision
 from socialnav.planner.limits import CycleClock
-from socialnav.planner.local_planner import LocalPlanner, PlannerResult, PlannerStatus
+from socialnav.planner.local_planner import PlannerResult, PlannerStatus
+from socialnav.planner.protocols import LocalPlannerProtocol
+from socialnav.planner.record import EvaluationRecord
 from socialnav.planner.rollout import RolloutParams, rollout
 from socialnav.world.grid import INSCRIBED
 
@@ -124,10 +126,10 @@ def body_to_world_velocity(pose: FloatArray, twist: FloatArray) -> FloatArray:
 
 
 class RecoveringPlanner:
-    """Wraps a :class:`LocalPlanner`: evasion, waiting, recoveries and a non-latching ``STUCK``
-    (module docstring). Never raises on a well-typed context."""
+    """Wraps any :class:`LocalPlannerProtocol` (and is one): evasion, waiting, recoveries and a
+    non-latching ``STUCK`` (module docstring). Never raises on a well-typed context."""
 
-    def __init__(self, planner: LocalPlanner, params: RecoveryParams | None = None) -> None:
+    def __init__(self, planner: LocalPlannerProtocol, params: RecoveryParams | None = None) -> None:
         self.planner = planner
         self.params = params or RecoveryParams()
         self._occupancy = OccupancyCritic()
@@ -151,6 +153,12 @@ class RecoveringPlanner:
         self._goal: FloatArray | None = None
         self._blocked = False  # the previous cycle had no legal command
 
+    def _out(
+        self, cmd: FloatArray, status: PlannerStatus, record: EvaluationRecord | None, message: str
+    ) -> PlannerResult:
+        """A result toward this cycle's goal (the navigator's resolved target)."""
+        return PlannerResult(cmd, status, record, message, self._goal)
+
     def plan(self, ctx: PlanningContext, record: bool = False) -> PlannerResult:
         pose = np.asarray(ctx.pose, dtype=float)
         if pose.shape != (3,) or not np.all(np.isfinite(pose)) or not np.isfinite(ctx.time):
@@ -169,7 +177,7 @@ class RecoveringPlanner:
         if self._phase is not None:
             cmd = self._recovery_cmd(ctx, now)
             if cmd is not None:
-                return PlannerResult(cmd, PlannerStatus.RECOVERING, None, f"recovery: {self._phase}")
+                return self._out(cmd, PlannerStatus.RECOVERING, None, f"recovery: {self._phase}")
         result = self.planner.plan(ctx, record)
         if result.status in _AT_GOAL:
             self._anchor, self._anchor_time, self._recoveries = pose.copy(), now, 0
@@ -191,18 +199,18 @@ class RecoveringPlanner:
         if stalled > p.controller_patience:
             why = f"no {p.required_movement_radius} m progress in {stalled:.1f} s"
             if legal:
-                return PlannerResult(result.cmd, PlannerStatus.STUCK, result.record, why)
-            return PlannerResult(np.zeros(3), PlannerStatus.STUCK, result.record, why)
+                return self._out(result.cmd, PlannerStatus.STUCK, result.record, why)
+            return self._out(np.zeros(3), PlannerStatus.STUCK, result.record, why)
         blocker = self._blocking_person(ctx)
         if blocker is not None:
             k, gap = blocker
             who = ctx.social.people[k].id
             why = f"waiting for person {who} ({gap:.2f} m away): {result.message or 'blocked'}"
-            return PlannerResult(np.zeros(3), PlannerStatus.WAITING, result.record, why)
+            return self._out(np.zeros(3), PlannerStatus.WAITING, result.record, why)
         if self._recoveries >= p.max_recoveries:
             if legal:
                 return result
-            return PlannerResult(
+            return self._out(
                 np.zeros(3),
                 PlannerStatus.NO_LEGAL_TRAJECTORY,
                 result.record,
@@ -214,7 +222,7 @@ class RecoveringPlanner:
         if cmd is None:
             cmd = np.zeros(3)
         why = f"recovery after: {result.message or 'no progress'}"
-        return PlannerResult(cmd, PlannerStatus.RECOVERING, result.record, why)
+        return self._out(cmd, PlannerStatus.RECOVERING, result.record, why)
 
     def _blocking_person(self, ctx: PlanningContext) -> tuple[int, float] | None:
         """``(index, gap m)`` of the person blocking the robot (module docstring), or None."""
@@ -266,7 +274,7 @@ class RecoveringPlanner:
             return None  # the planner's own command keeps as much clearance
         who = int(np.flatnonzero(sel)[int(np.argmin(ttc))])
         why = f"evading person {people[who].id} (time to collision {float(ttc.min()):.2f} s)"
-        return PlannerResult(twists[k].copy(), PlannerStatus.EVADING, result.record, why)
+        return self._out(twists[k].copy(), PlannerStatus.EVADING, result.record, why)
 
     def _static_ok(self, ctx: PlanningContext, trajs: object) -> np.ndarray:
         """Legal against the local costmap (people discs included: moving away is allowed)."""
