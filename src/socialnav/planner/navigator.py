@@ -336,12 +336,13 @@ class Navigator:
             or abs(float(wrap_angle(target[2] - self._path_target[2]))) > 0.05
         )
         age = now - self._plan_time
+        off_plan = self._off_plan(pose)
         due = (
             changed
             or self._path is None
             or age >= self.replan_period
             or (self._waiting and age >= self.waiting_replan_period)
-            or self._off_plan(pose)
+            or off_plan
         )
         if due:
             on_map = self._on_map(social)
@@ -358,7 +359,7 @@ class Navigator:
             self._plan_time = now
             if plan.path is not None and plan.path.shape[0] > 0:
                 self._path = np.asarray(plan.path, dtype=float)
-            elif changed or self._path is None:
+            elif changed or self._path is None or off_plan:
                 self._path = (
                     np.stack([pose[:2], target[:2]]) if self.straight_line_fallback else None
                 )
