@@ -66,7 +66,8 @@ class RecoveryParams:
 
     Defaults: Nav2 ``SimpleProgressChecker`` (0.25 m in 10 s), ``base_local_planner``'s escape
     (0.1 m/s), ``controller_patience`` 30 s (longer than move_base's 15 s: waiting for a person
-    to clear a corridor is normal), evasion below 3 s to collision (a person at 1.5 m/s closes 4.5 m: time for a 0.3 m/s sidestep).
+    to clear a corridor is normal), evasion below 3 s to collision (a person at 1.5 m/s is then
+    4.5 m away: time for a 0.3 m/s sidestep).
     """
 
     backup_speed: float = 0.1
