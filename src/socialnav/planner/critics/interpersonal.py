@@ -140,6 +140,7 @@ class InterpersonalCritic(Critic):
             )
 
     def score(self, trajs: Trajectories, ctx: PlanningContext) -> CriticScore:
+        """Raw cost ``(N,)`` and illegal masks of the batch (see the class docstring)."""
         n = len(trajs)
         people_now = ctx.social.positions()  # (K, 2)
         k = people_now.shape[0]
@@ -193,5 +194,5 @@ class InterpersonalCritic(Critic):
                 for j in np.flatnonzero(touching):
                     dj = ((xy - forecast[None, :, j]) ** 2).sum(axis=-1)  # (N, T)
                     hit[:, j] = ~np.all(np.diff(dj, axis=1) >= -1e-12, axis=1)
-            illegal["person_collision"] = hit.any(axis=1)
+            illegal["person_collision"] = np.asarray(hit.any(axis=1))
         return CriticScore(np.ascontiguousarray(cost, dtype=float), illegal)
