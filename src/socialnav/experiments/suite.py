@@ -7,6 +7,7 @@ never the end of the suite. ``run_suite`` resumes: rows already in ``results.par
 
 from __future__ import annotations
 
+import itertools
 import time
 import traceback
 from collections.abc import Callable, Iterable, Sequence
@@ -17,6 +18,8 @@ from typing import Any
 import numpy as np
 import pyarrow as pa
 import pyarrow.parquet as pq
+
+from socialnav.experiments.crowd import CrowdSpec
 
 RESULTS_FILE = "results.parquet"
 TABLE1_SCENARIO = "hallway_passing"
@@ -34,12 +37,15 @@ class EpisodeSpec:
     seed: int = 0
     humans: str = "scripted"
     randomize: bool = False
+    context: str = "given"
 
     @property
     def run_id(self) -> str:
         name = Path(self.scenario).stem
         suffix = "_rand" if self.randomize else ""
-        return f"{name}__{self.planner}__{self.robot}__{self.humans}{suffix}__s{self.seed}"
+        # the given context keeps its historical ids, so earlier results still resume
+        ctx = "" if self.context == "given" else f"__{self.context}"
+        return f"{name}__{self.planner}__{self.robot}__{self.humans}{suffix}{ctx}__s{self.seed}"
 
 
 def suite_specs(
@@ -47,25 +53,30 @@ def suite_specs(
     scenarios: Sequence[str],
     planners: Sequence[str],
     robots: Sequence[str],
-    seeds: int | None = None,
+    seeds: int | range | None = None,
+    contexts: Sequence[str] = ("given",),
 ) -> list[EpisodeSpec]:
-    """The episodes of a named suite.
+    """The episodes of a named suite, once per social ``contexts`` entry (``given`` and/or
+    ``detected``, see :func:`socialnav.sim.runner.run_episode`).
 
     - ``paper``: every scenario once (seed 0) and ``hallway_passing`` with seeds 0–4 (Table 1).
     - ``reactive``: the same runs with people driven by navground ``HL`` who react to the robot.
     - ``randomized``: seeded jitter of positions, speeds and group sizes; ``seeds`` (20) each.
+
+    ``seeds``: a count N (seeds ``0 … N-1``) or a ``range`` (``--seeds A:B``).
     """
     specs: list[EpisodeSpec] = []
+    chosen = range(seeds) if isinstance(seeds, int) else seeds
     for scenario in scenarios:
         if suite == "randomized":
-            run_seeds: Iterable[int] = range(seeds or 20)
+            run_seeds: Iterable[int] = chosen or range(20)
         elif Path(scenario).stem == TABLE1_SCENARIO:
-            run_seeds = TABLE1_SEEDS if seeds is None else range(seeds)
+            run_seeds = TABLE1_SEEDS if chosen is None else chosen
         else:
-            run_seeds = range(seeds or 1)
+            run_seeds = chosen or range(1)
         for planner in planners:
             for robot in robots:
-                for seed in run_seeds:
+                for seed, context in itertools.product(run_seeds, contexts):
                     specs.append(
                         EpisodeSpec(
                             scenario=scenario,
@@ -74,15 +85,20 @@ def suite_specs(
                             seed=seed,
                             humans="reactive" if suite == "reactive" else "scripted",
                             randomize=suite == "randomized",
+                            context=context,
                         )
                     )
     return specs
 
 
 def run_spec(
-    spec: EpisodeSpec, out_dir: Path | None = None, figure: bool = False
+    spec: EpisodeSpec | CrowdSpec, out_dir: Path | None = None, figure: bool = False
 ) -> dict[str, Any]:
     """Run one episode; return its result row (metrics, success conditions, timing, error)."""
+    if isinstance(spec, CrowdSpec):  # the crowd suite (socialnav.experiments.crowd)
+        from socialnav.experiments.crowd import run_crowd_spec
+
+        return run_crowd_spec(spec, out_dir, figure)
     row: dict[str, Any] = {**asdict(spec), "run_id": spec.run_id, "error": ""}
     started = time.perf_counter()
     try:
@@ -97,6 +113,7 @@ def run_spec(
         row["family"] = record.family
         row["steps"] = record.num_steps
         row["planner_ms_median"] = float(record.meta.get("planner_ms_median", np.nan))
+        row["estimator_ms_median"] = float(record.meta.get("estimator_ms_median", np.nan))
         if out_dir is not None:
             from socialnav.experiments.storage import save_episode
 
@@ -125,7 +142,7 @@ def _done_ids(out_dir: Path) -> set[str]:
 
 
 def run_suite(
-    specs: Sequence[EpisodeSpec],
+    specs: Sequence[EpisodeSpec | CrowdSpec],
     out_dir: Path,
     n_jobs: int = -1,
     figures: bool = False,
