@@ -40,6 +40,7 @@ import numpy as np
 from socialnav.core.errors import ConfigurationError
 from socialnav.core.geometry import FloatArray
 from socialnav.core.trajectories import Trajectories
+from socialnav.planner import kernels
 from socialnav.planner.critics.base import CRITICS, Critic, CriticScore
 
 if TYPE_CHECKING:
@@ -83,7 +84,10 @@ def min_squared_distances(
     _, forecast, bound, done, d2min = entry
     # A relative margin keeps the cull conservative against rounding in the bound.
     todo = ~done & (bound <= reach * (1.0 + 1e-9) + 1e-9)
-    if todo.any():
+    if todo.any() and kernels.enabled():
+        kernels.min_squared_distances(trajs.poses, forecast, np.flatnonzero(todo), d2min)
+        done |= todo
+    elif todo.any():
         xs = np.ascontiguousarray(trajs.xy[..., 0])  # (N, T)
         ys = np.ascontiguousarray(trajs.xy[..., 1])
         # One person at a time: (N, T) temporaries stay in cache, unlike one (N, T, K) array.

@@ -1,0 +1,344 @@
+"""Compiled (numba) kernels for the hot loops of a planning cycle, with NumPy as the reference.
+
+The rollout, the occupancy critic and the per-person distance minimum are each one pass over
+the ``(N, T)`` poses here instead of ~10–40 NumPy array passes with temporaries. Every kernel
+computes the *same IEEE operations in the same order* as the NumPy reference it replaces, so
+results are bit-identical: sums run in the order ``np.cumsum`` uses, minima and maxima are exact,
+and no fast-math flags are set (no FMA contraction, no reassociation). ``cos``/``sin`` are the C
+library's in the kernels; NumPy's float64 ``cos``/``sin`` are the same functions on common
+builds (a NumPy built with Intel SVML may differ by one ulp, i.e. poses by ~1e-16 relative,
+which can only flip a cell lookup for a pose within 1e-15 m of a cell edge). The property tests
+in ``tests/test_kernels.py`` check bit-identity on random scenes.
+
+Selection: the compiled path is used when numba is importable and the environment variable
+``SOCIALNAV_KERNELS`` is not ``reference`` (``SOCIALNAV_KERNELS=reference`` runs the NumPy
+reference everywhere; CI runs the parity tests both ways). :func:`enabled` may be overridden at
+run time with :func:`set_enabled`.
+
+Compilation: ``cache=True`` stores machine code beside this module (or in ``NUMBA_CACHE_DIR``);
+:func:`warmup` compiles or loads every kernel for the exact argument types the planner passes
+and is called when a planner is built, so no control step ever compiles. Its duration is in
+:data:`compile_seconds` (benchmarks print it on its own row).
+"""
+
+from __future__ import annotations
+
+import os
+import time
+
+import numpy as np
+from numpy.typing import NDArray
+
+try:  # numba is a core dependency; the guard keeps the reference path usable without it.
+    import numba as _numba
+
+    _AVAILABLE = True
+except ImportError:  # pragma: no cover - exercised only without numba installed
+    _numba = None
+    _AVAILABLE = False
+
+_ENABLED = _AVAILABLE and os.environ.get("SOCIALNAV_KERNELS", "").strip().lower() != "reference"
+#: Seconds the last :func:`warmup` spent compiling or loading cached kernels (0 if never run).
+compile_seconds = 0.0
+_warm = False
+
+
+def enabled() -> bool:
+    """Whether the compiled kernels are used (module docstring)."""
+    return _ENABLED
+
+
+def set_enabled(value: bool) -> bool:
+    """Switch between the compiled kernels (``True``, needs numba) and the NumPy reference;
+    returns the previous setting. Raises ``RuntimeError`` asking for numba when unavailable."""
+    global _ENABLED
+    if value and not _AVAILABLE:
+        raise RuntimeError("the compiled kernels need numba (pip install numba)")
+    previous, _ENABLED = _ENABLED, bool(value)
+    if value:
+        warmup()
+    return previous
+
+
+def _jit(fn):  # type: ignore[no-untyped-def]
+    if not _AVAILABLE:
+        return fn
+    return _numba.njit(cache=True, nogil=True, fastmath=False, error_model="numpy")(fn)
+
+
+# ---- rollout -------------------------------------------------------------------------------
+
+
+@_jit
+def _wrap(a, two_pi, pi):  # type: ignore[no-untyped-def]
+    """``(a + pi) % two_pi - pi`` with NumPy's float remainder; the common cases skip ``fmod``
+    with the value it would return (exact: ``fmod(x, b) == x`` for ``|x| < b``)."""
+    x = a + pi
+    if 0.0 <= x < two_pi:
+        return x - pi
+    if -two_pi < x < 0.0:
+        return (x + two_pi) - pi
+    return x % two_pi - pi
+
+
+@_jit
+def _rollout_kernel(x0, y0, th0, twists, t, dt, two_pi, pi, out):  # type: ignore[no-untyped-def]
+    """``out (N, T, 3)``: the operations of :func:`socialnav.planner.rollout.rollout` in its
+    order (heading ``th0 + w t``, Euler step with the previous heading, sequential cumulative
+    sum, then the start added, yaw wrapped to ``[-pi, pi)``)."""
+    n, steps = twists.shape[0], t.shape[0]
+    for i in range(n):
+        vx = twists[i, 0]
+        vy = twists[i, 1]
+        w = twists[i, 2]
+        out[i, 0, 0] = x0
+        out[i, 0, 1] = y0
+        sx = 0.0
+        sy = 0.0
+        th = th0 + w * t[0]
+        out[i, 0, 2] = _wrap(th, two_pi, pi)
+        for k in range(1, steps):
+            ck = np.cos(th)
+            sk = np.sin(th)
+            sx += (vx * ck - vy * sk) * dt
+            sy += (vx * sk + vy * ck) * dt
+            out[i, k, 0] = sx + x0
+            out[i, k, 1] = sy + y0
+            th = th0 + w * t[k]
+            out[i, k, 2] = _wrap(th, two_pi, pi)
+
+
+def rollout_poses(
+    pose: NDArray[np.float64], twists: NDArray[np.float64], t: NDArray[np.float64], dt: float
+) -> NDArray[np.float64]:
+    """float64 poses ``(N, T, 3)`` of constant ``twists (N, 3)`` from ``pose (3,)`` on the time
+    grid ``t (T,)`` s with step ``dt`` s; bit-identical to the NumPy rollout (module doc)."""
+    twists = np.ascontiguousarray(twists, dtype=np.float64)
+    out = np.empty((twists.shape[0], t.size, 3))
+    _rollout_kernel(
+        float(pose[0]),
+        float(pose[1]),
+        float(pose[2]),
+        twists,
+        np.ascontiguousarray(t, dtype=np.float64),
+        float(dt),
+        2.0 * np.pi,
+        np.pi,
+        out,
+    )
+    return out
+
+
+# ---- occupancy -----------------------------------------------------------------------------
+
+
+@_jit
+def _occupancy_kernel(  # type: ignore[no-untyped-def]
+    poses,  # (N, T, 3) float64; poses[:, first:] are scored
+    first,
+    costs,  # (rows, cols) uint8
+    ox,
+    oy,
+    inv,
+    footprint,
+    outline,  # (K, 2) float64, far first
+    codes,  # flat padded hit codes (uint8): 1 LETHAL, 2 UNKNOWN / off the map
+    pad,
+    width,
+    clearance,  # (rows, cols) uint16 index into need_table, or an empty array
+    need_table,  # (L,) intp
+    circumscribed,  # threshold cost, or -1 to use the clearance table
+    sizes,  # (G,) ascending point counts the need is rounded up to
+    chunk,
+    worst,  # out (N,) float64
+    collision,  # out (N,) bool
+    unknown,  # out (N,) bool
+):
+    n, steps = poses.shape[0], poses.shape[1] - first
+    rows, cols = costs.shape
+    k_all = outline.shape[0]
+    ncodes = codes.shape[0]
+    for i in range(n):
+        w = 0
+        unk = False
+        col_hit = False
+        for k in range(steps):
+            cx = np.floor((poses[i, first + k, 0] - ox) * inv)
+            cy = np.floor((poses[i, first + k, 1] - oy) * inv)
+            v = 255
+            if 0.0 <= cy < rows and 0.0 <= cx < cols:
+                v = costs[int(cy), int(cx)]
+            if v == 255:
+                unk = True
+            elif v >= 253:
+                col_hit = True
+            elif v > w:
+                w = v
+        worst[i] = w
+        if footprint and not unk and not col_hit:
+            # Outline points per pose (the NumPy reference's need, rounded up to its groups);
+            # after a LETHAL hit the current chunk still finishes, as in the reference.
+            stop = steps
+            for k in range(steps):
+                if k >= stop:
+                    break
+                r = int(np.floor((poses[i, first + k, 1] - oy) * inv))
+                q = int(np.floor((poses[i, first + k, 0] - ox) * inv))
+                if circumscribed < 0:
+                    need = need_table[clearance[r, q]]
+                else:
+                    need = k_all if costs[r, q] >= circumscribed else 0
+                if need <= 0:
+                    continue
+                m = sizes[sizes.shape[0] - 1]
+                for g in range(sizes.shape[0]):
+                    if sizes[g] >= need:
+                        m = sizes[g]
+                        break
+                px, py = poses[i, first + k, 0], poses[i, first + k, 1]
+                ck, sk = np.cos(poses[i, first + k, 2]), np.sin(poses[i, first + k, 2])
+                bits = 0
+                for j in range(m):
+                    bx, by = outline[j, 0], outline[j, 1]
+                    x = (px + ck * bx - sk * by - ox) * inv
+                    y = (py + sk * bx + ck * by - oy) * inv
+                    cell = (int(np.floor(y)) + pad) * width + int(np.floor(x)) + pad
+                    if cell < 0:
+                        cell = 0
+                    elif cell >= ncodes:
+                        cell = ncodes - 1
+                    bits |= codes[cell]
+                if bits & 2:
+                    unk = True
+                if bits & 1 and not col_hit:
+                    col_hit = True
+                    stop = (k // chunk + 1) * chunk
+        collision[i] = col_hit
+        unknown[i] = unk
+
+
+def occupancy_scan(
+    poses: NDArray[np.float64],
+    first: int,
+    costs: NDArray[np.uint8],
+    origin: tuple[float, float],
+    resolution: float,
+    outline_data: tuple[NDArray[np.float64], NDArray[np.uint8], int, int] | None,
+    clearance: tuple[NDArray[np.uint16], NDArray[np.intp]] | None,
+    circumscribed: int | None,
+    sizes: NDArray[np.intp],
+    chunk: int,
+) -> tuple[NDArray[np.float64], NDArray[np.bool_], NDArray[np.bool_]]:
+    """Worst centre cost ``(N,)`` (0..252), footprint ``collision (N,)`` and ``unknown (N,)``
+    of ``poses[:, first:]`` (``poses (N, T, 3)`` float64), exactly as the NumPy occupancy
+    critic computes them.
+
+    ``outline_data`` = (outline ``(K, 2)`` far first, flat padded hit codes, pad, padded width)
+    or ``None`` (centre cell only); ``clearance`` = (per-cell level, need table) for the exact
+    shortcut, or ``None`` with ``circumscribed`` the cost threshold.
+    """
+    n = poses.shape[0]
+    worst = np.empty(n)
+    collision = np.empty(n, dtype=np.bool_)
+    unknown = np.empty(n, dtype=np.bool_)
+    poses = np.ascontiguousarray(poses, dtype=np.float64)
+    if outline_data is None:
+        outline, codes, pad, width = np.zeros((0, 2)), np.zeros(1, np.uint8), 0, 1
+    else:
+        outline, codes, pad, width = outline_data
+    if clearance is None:
+        clear, table = np.zeros((1, 1), np.uint16), np.zeros(1, np.intp)
+    else:
+        clear, table = clearance
+    _occupancy_kernel(
+        poses,
+        int(first),
+        np.ascontiguousarray(costs),
+        float(origin[0]),
+        float(origin[1]),
+        1.0 / resolution,
+        outline_data is not None,
+        np.ascontiguousarray(outline, dtype=np.float64),
+        np.ascontiguousarray(codes).reshape(-1),
+        int(pad),
+        int(width),
+        np.ascontiguousarray(clear),
+        np.ascontiguousarray(table, dtype=np.intp),
+        -1 if circumscribed is None else int(circumscribed),
+        np.ascontiguousarray(sizes, dtype=np.intp),
+        int(chunk),
+        worst,
+        collision,
+        unknown,
+    )
+    return worst, collision, unknown
+
+
+# ---- people --------------------------------------------------------------------------------
+
+
+@_jit
+def _d2min_kernel(xy, forecast, people, out):  # type: ignore[no-untyped-def]
+    n, t = xy.shape[0], xy.shape[1]  # xy (N, T, >= 2): x, y first
+    for jj in range(people.shape[0]):
+        j = people[jj]
+        for i in range(n):
+            best = np.inf
+            for k in range(t):
+                dx = xy[i, k, 0] - forecast[k, j, 0]
+                dy = xy[i, k, 1] - forecast[k, j, 1]
+                d = dx * dx + dy * dy
+                if d < best or d != d:  # NaN propagates as np.min does
+                    best = d
+                    if d != d:
+                        break
+            out[i, j] = best
+
+
+def min_squared_distances(
+    xy: NDArray[np.float64],
+    forecast: NDArray[np.float64],
+    people: NDArray[np.intp],
+    out: NDArray[np.float64],
+) -> None:
+    """``out[:, j] = min_t |xy[:, t] - forecast[t, j]|²`` for ``j`` in ``people``;
+    ``xy (N, T, 2)`` m (or poses ``(N, T, 3)``: x, y are read), ``forecast (T, K, 2)`` m, ``out (N, K)`` m², written in place."""
+    _d2min_kernel(
+        np.ascontiguousarray(xy, dtype=np.float64),
+        np.ascontiguousarray(forecast, dtype=np.float64),
+        np.ascontiguousarray(people, dtype=np.intp),
+        out,
+    )
+
+
+# ---- warm-up -------------------------------------------------------------------------------
+
+
+def warmup() -> float:
+    """Compile (or load from the cache) every kernel for the planner's argument types; returns
+    and records in :data:`compile_seconds` the seconds spent. Idempotent and cheap after the
+    first call of a process."""
+    global compile_seconds, _warm
+    if _warm or not _AVAILABLE:
+        return 0.0
+    start = time.perf_counter()
+    pose = np.zeros(3)
+    twists = np.array([[0.1, 0.0, 0.1], [0.2, 0.1, -0.1]])
+    t = np.linspace(0.0, 1.0, 4)
+    poses = rollout_poses(pose, twists, t, 1.0 / 3.0)
+    costs = np.zeros((4, 4), np.uint8)
+    outline = np.array([[0.1, 0.0], [0.0, 0.1]])
+    codes = np.zeros(64, np.uint8)
+    sizes = np.array([1, 2], dtype=np.intp)
+    clear = (np.zeros((4, 4), np.uint16), np.array([2, 1], dtype=np.intp))
+    for data, clr, circ in (
+        ((outline, codes, 2, 8), clear, None),
+        ((outline, codes, 2, 8), None, 200),
+        (None, None, None),
+    ):
+        occupancy_scan(poses, 1, costs, (0.0, 0.0), 0.25, data, clr, circ, sizes, 8)
+    out = np.full((2, 1), np.inf)
+    min_squared_distances(poses, np.zeros((4, 1, 2)), np.array([0], np.intp), out)
+    compile_seconds = time.perf_counter() - start
+    _warm = True
+    return compile_seconds
