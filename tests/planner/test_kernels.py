@@ -11,7 +11,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from socialnav.core.robot import PR2, PIONEER
+from socialnav.core.robot import PIONEER, PR2
 from socialnav.core.scene import Person, SocialContext
 from socialnav.planner import kernels
 from socialnav.planner.context import PlanningContext

@@ -302,7 +302,8 @@ def min_squared_distances(
     out: NDArray[np.float64],
 ) -> None:
     """``out[:, j] = min_t |xy[:, t] - forecast[t, j]|²`` for ``j`` in ``people``;
-    ``xy (N, T, 2)`` m (or poses ``(N, T, 3)``: x, y are read), ``forecast (T, K, 2)`` m, ``out (N, K)`` m², written in place."""
+    ``xy (N, T, 2)`` m (or poses ``(N, T, 3)``: x, y are read), ``forecast (T, K, 2)`` m,
+    ``out (N, K)`` m², written in place."""
     _d2min_kernel(
         np.ascontiguousarray(xy, dtype=np.float64),
         np.ascontiguousarray(forecast, dtype=np.float64),

@@ -141,7 +141,7 @@ class OccupancyCritic(Critic):
             outline_data,
             clearance,
             self.circumscribed_cost,
-            np.array(_outline_sizes(ctx.extras.get("occupancy_outline", np.zeros((1, 2)))), np.intp),
+            np.array(_outline_sizes(ctx.extras.get("occupancy_outline", _NO_OUTLINE)), np.intp),
             _CHUNK_STEPS,
         )
 
@@ -187,6 +187,7 @@ _CLEARANCE_MARGIN = 0.05
 # Steps per early-exit chunk: trajectories with a LETHAL hit are dropped between chunks.
 _CHUNK_STEPS = 8
 _HIT, _UNSEEN = np.uint8(1), np.uint8(2)
+_NO_OUTLINE = np.zeros((1, 2))
 
 
 def _start_in_collision(ctx: PlanningContext, pose: FloatArray, footprint: bool) -> bool:
@@ -344,7 +345,6 @@ def _outline_hits(
     codes, pad = ctx.extras["occupancy_codes"]
     flat_codes = codes.ravel()
     width = codes.shape[1]
-    k_all = outline.shape[0]
     sizes = _outline_sizes(outline)
     sizes_arr = np.array(sizes)
     inv = 1.0 / geom.resolution
