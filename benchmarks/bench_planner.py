@@ -23,9 +23,10 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from harness import Case, Row, print_rows, time_case
+from harness import Case, Row, format_seconds, print_rows, time_case, time_interleaved
 from socialnav.core.robot import PR2
 from socialnav.moo.selection import WeightedSum
+from socialnav.planner import kernels
 from socialnav.planner.context import PlanningContext
 from socialnav.planner.critics import (
     GoalDistanceCritic,
@@ -187,8 +188,51 @@ def python_loop(twists: np.ndarray, params: RolloutParams, reach: float):
     return run
 
 
+def with_kernels(flag: bool, fn):
+    """``fn`` run with the compiled kernels on (``True``) or the NumPy reference (``False``)."""
+
+    def run():
+        previous = kernels.set_enabled(flag)
+        try:
+            return fn()
+        finally:
+            kernels.set_enabled(previous)
+
+    return run
+
+
+def compiled_vs_reference(repeats: int) -> None:
+    """Full cycle (sampling excluded: fixed twists) on the compiled kernels against the NumPy
+    reference, interleaved in one run; wall and CPU-time medians."""
+    if not kernels.enabled():
+        print("\n(compiled kernels unavailable or SOCIALNAV_KERNELS=reference: skipped)")
+        return
+    print(f"\nkernel compile/cache load at planner construction: {kernels.compile_seconds:.2f} s")
+    header = "| N x T | variant | wall (median) | wall (min) | CPU (median) | speed-up (CPU) |"
+    print("\n## Compiled kernels vs the NumPy reference (same run, interleaved)\n")
+    print(header)
+    print("|" + "|".join("---" for _ in range(6)) + "|")
+    for n, t in ((400, 34), (2000, 56)):
+        for footprint in (True, False):
+            cycle, *_ = make_cycle(n, t, footprint)
+            chosen = {with_kernels(f, cycle)().index for f in (False, True)}
+            assert len(chosen) == 1, "compiled and reference selections differ"
+            ref, fast = time_interleaved(
+                [with_kernels(False, cycle), with_kernels(True, cycle)], repeats, warmup=2
+            )
+            fp = "footprint" if footprint else "centre only"
+            for name, (w, wmin, c) in (("numpy reference", ref), ("compiled", fast)):
+                ratio = f"{ref[2] / c:.1f}x" if name == "compiled" else ""
+                print(
+                    f"| {n}x{t} | {name}, {fp} | {format_seconds(w)} | {format_seconds(wmin)} "
+                    f"| {format_seconds(c)} | {ratio} |"
+                )
+
+
 def main(quick: bool = False) -> None:
     repeats = 5 if quick else 15
+    kernels.warmup()
+    compiled_vs_reference(3 * repeats)
     rows: list[Row] = []
     for n, t in ((400, 34), (2000, 56)):
         group = f"{n}x{t}"
@@ -196,6 +240,7 @@ def main(quick: bool = False) -> None:
         for footprint in (True, False):
             fp = "footprint" if footprint else "centre only"
             cycle, *_ = make_cycle(n, t, footprint)
+            cycle = with_kernels(False, cycle)
             cases.append(Case(group, f"numpy f64, {fp}", cycle, repeats=repeats, warmup=2))
         cycle32, *_ = make_cycle(n, t, True, np.float32)
         cases.append(Case(group, "numpy f32, footprint", cycle32, repeats=repeats, warmup=2))

@@ -196,3 +196,36 @@ def test_warmup_compiles_ahead() -> None:
         "d2min": len(kernels._d2min_kernel.signatures),
     }
     assert after == sigs
+
+
+@settings(max_examples=40)
+@given(
+    seed=st.integers(0, 2**31 - 1),
+    density=st.floats(0.0, 0.6),
+    n_seeds=st.integers(1, 30),
+    settle=st.booleans(),
+)
+def test_bfs_grid_identical(seed: int, density: float, n_seeds: int, settle: bool) -> None:
+    """Identical step counts inside the settle region; outside it the reference is exact or
+    inf, and the compiled flood (exact everywhere) agrees wherever the reference is finite."""
+    from socialnav.planner.critics.path_distance import bfs_distance
+
+    rng = np.random.default_rng(seed)
+    shape = tuple(rng.integers(5, 60, 2))
+    passable = rng.random(shape) >= density
+    seeds = np.column_stack(
+        [rng.integers(0, shape[0], n_seeds), rng.integers(0, shape[1], n_seeds)]
+    )
+    box = (slice(shape[0] // 4, shape[0] // 2 + 1), slice(shape[1] // 4, shape[1] // 2 + 1))
+    region = box if settle else None
+    with compiled(False):
+        ref = bfs_distance(passable, seeds, region)
+    with compiled(True):
+        fast = bfs_distance(passable, seeds, region)
+    assert fast.dtype == ref.dtype
+    if region is None:
+        assert np.array_equal(ref, fast)
+    else:
+        assert np.array_equal(ref[region], fast[region])
+        finite = np.isfinite(ref)
+        assert np.array_equal(ref[finite], fast[finite])

@@ -312,6 +312,65 @@ def min_squared_distances(
     )
 
 
+# ---- BFS map grids ---------------------------------------------------------------------------
+
+
+@_jit
+def _bfs_kernel(passable, seeds, dist):  # type: ignore[no-untyped-def]
+    rows, cols = passable.shape
+    queue = np.empty(rows * cols, dtype=np.int64)
+    head = 0
+    tail = 0
+    for k in range(seeds.shape[0]):
+        r, c = seeds[k, 0], seeds[k, 1]
+        if dist[r, c] != 0.0:
+            dist[r, c] = 0.0
+            queue[tail] = r * cols + c
+            tail += 1
+    while head < tail:
+        u = queue[head]
+        head += 1
+        r = u // cols
+        c = u - r * cols
+        d = dist[r, c]
+        if d != 0.0 and not passable[r, c]:
+            continue  # reached but blocked: never expands (seeds expand whatever their cost)
+        d1 = d + np.float32(1.0)
+        if r > 0 and dist[r - 1, c] == np.inf:
+            dist[r - 1, c] = d1
+            queue[tail] = u - cols
+            tail += 1
+        if c > 0 and dist[r, c - 1] == np.inf:
+            dist[r, c - 1] = d1
+            queue[tail] = u - 1
+            tail += 1
+        if c + 1 < cols and dist[r, c + 1] == np.inf:
+            dist[r, c + 1] = d1
+            queue[tail] = u + 1
+            tail += 1
+        if r + 1 < rows and dist[r + 1, c] == np.inf:
+            dist[r + 1, c] = d1
+            queue[tail] = u + cols
+            tail += 1
+    for r in range(rows):
+        for c in range(cols):
+            if not passable[r, c]:
+                dist[r, c] = np.inf
+    for k in range(seeds.shape[0]):
+        dist[seeds[k, 0], seeds[k, 1]] = 0.0
+
+
+def bfs_distance(passable: NDArray[np.bool_], seeds: NDArray[np.intp]) -> NDArray[np.float32]:
+    """4-connected BFS step counts ``(rows, cols)`` float32 from in-grid ``seeds (K, 2)``
+    (row, col), exact everywhere: :func:`socialnav.planner.critics.path_distance.bfs_distance`
+    semantics (seeds 0 whatever their cost, blocked cells never expand and read ``inf``)."""
+    dist = np.full(passable.shape, np.inf, dtype=np.float32)
+    seeds = np.ascontiguousarray(seeds, dtype=np.int64).reshape(-1, 2)
+    if seeds.shape[0]:
+        _bfs_kernel(np.ascontiguousarray(passable, dtype=np.bool_), seeds, dist)
+    return dist
+
+
 # ---- warm-up -------------------------------------------------------------------------------
 
 
@@ -340,6 +399,7 @@ def warmup() -> float:
         occupancy_scan(poses, 1, costs, (0.0, 0.0), 0.25, data, clr, circ, sizes, 8)
     out = np.full((2, 1), np.inf)
     min_squared_distances(poses, np.zeros((4, 1, 2)), np.array([0], np.intp), out)
+    bfs_distance(np.ones((3, 3), dtype=bool), np.array([[1, 1]], dtype=np.intp))
     compile_seconds = time.perf_counter() - start
     _warm = True
     return compile_seconds
