@@ -6,11 +6,11 @@ Setup: a 10 m × 10 m local costmap at 0.05 m (200 × 200 cells) with walls, a p
 and a pillar, inflated for the PR2, with people added as obstacle discs (as the Navigator's
 obstacle layer does). The holonomic PR2 at (4.8, 5.8) moving at 0.3 m/s, on its approach from
 (1.0, 4.5); the global plan (``plan_path``) runs from the robot to the target. People (seeded):
-with 5 or 20 people, 3 stand in an O-formation ~2.2 m ahead that the robot joins (social goal
+with 5 or more people, 3 stand in an O-formation ~2.2 m ahead that the robot joins (social goal
 ``o_formation_join_pose``; objectives navigation + ID + GD + SGD, all active); the others stand
-or walk along the path (0.3–1.0 m/s) 0.6–2.5 m beside it, from 3 m behind to 4 m ahead (the
-first one stands 1–1.5 m ahead). With 1 person there is no group and no social goal
-(navigation + ID: the paper's hallway, m = 2).
+or walk along the path (0.3–1.0 m/s) 0.6–2.5 m beside it (up to 4 m with more than 20),
+from 3 m behind to 4 m ahead (the first one stands 1–1.5 m ahead). With 1 person there is no
+group and no social goal (navigation + ID: the paper's hallway, m = 2).
 
 Planners are the real presets through ``LocalPlanner.plan(ctx, record=True)`` (a fresh context
 every cycle, so per-cycle BFS grids are rebuilt as in the control loop):
@@ -31,15 +31,17 @@ from __future__ import annotations
 
 import statistics
 import sys
+import tracemalloc
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from harness import format_seconds
+from harness import format_seconds, time_interleaved
 from socialnav.core.robot import PR2
 from socialnav.core.scene import Group, Person, SocialContext
 from socialnav.moo.selection import WeightedSum
+from socialnav.planner import kernels
 from socialnav.planner.context import PlanningContext
 from socialnav.planner.global_planner import plan_path
 from socialnav.planner.local_planner import LocalPlanner, LocalPlannerParams
@@ -66,7 +68,7 @@ GIVEN_GOAL = np.array([9.0, 7.2, 0.0])  # 1 person: no social goal; START–goal
 GROUP_CENTER = np.array([7.6, 6.6])
 GROUP_RADIUS = 0.7
 GROUP_BEARINGS = np.radians([20.0, 110.0, 250.0])  # widest gap (110°→250°) faces the robot
-PEOPLE_COUNTS = (1, 5, 20)
+PEOPLE_COUNTS = (1, 5, 10, 20, 50)
 # (vx, vy, vth) samples → N at VEL (in-place rotations below min_in_place_vel_theta are dropped).
 SAMPLINGS = ((9, 5, 9), (13, 9, 17))
 
@@ -105,6 +107,8 @@ def place_people(
     s = np.concatenate([[0.0], np.cumsum(np.hypot(*seg.T))])
     s_robot = s[np.argmin(np.hypot(*(path - POSE[:2]).T))]
     usable = np.flatnonzero((s > s_robot - 3.0) & (s < min(s_robot + 4.0, s[-1] - 0.8)))
+    # Crowds beyond 20 need a wider band (up to 4 m beside the path) and 0.6 m spacing.
+    band, spacing = (2.5, 0.7) if count <= 20 else (4.0, 0.6)
     people: list[Person] = []
     for _ in range(20000):
         if len(people) == count:
@@ -114,7 +118,7 @@ def place_people(
         i = int(rng.choice(np.flatnonzero(ahead) if first else usable))
         tangent = seg[min(i, seg.shape[0] - 1)]
         normal = np.array([-tangent[1], tangent[0]]) / np.hypot(*tangent)
-        offset = rng.uniform(0.6, 0.9) if first else rng.uniform(0.6, 2.5)
+        offset = rng.uniform(0.6, 0.9) if first else rng.uniform(0.6, band)
         p = path[i] + rng.choice([-1.0, 1.0]) * offset * normal
         # Half walk along the path (either way); a walker starts far enough away that it cannot
         # reach the robot's spot within the 1.7 s horizon, so the scene stays passable.
@@ -124,7 +128,7 @@ def place_people(
             continue
         if np.hypot(*(p - POSE[:2])) < 1.0 + 1.7 * speed:
             continue
-        if taken and min(np.hypot(*(p - q)) for q in taken) < 0.7:
+        if taken and min(np.hypot(*(p - q)) for q in taken) < spacing:
             continue
         taken.append(p)
         vel = (speed * np.cos(heading), speed * np.sin(heading))
@@ -285,6 +289,77 @@ def print_breakdown(title: str, measured: dict[str, Measured]) -> None:
     print_table(["stage", *measured], rows)
 
 
+def peak_memory(fn: Callable[[], object]) -> int:
+    """tracemalloc peak (bytes) over one call of ``fn`` (warmed up by the caller)."""
+    tracemalloc.start()
+    try:
+        fn()
+        return tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+
+
+def compiled_vs_reference(scenes: dict[int, Scene], repeats: int) -> None:
+    """``paccet`` cycles at N ≈ 2000 on the compiled kernels and on the NumPy reference,
+    interleaved in one run (each on its own planner, so PaCcET's archive evolves alike); the
+    chosen candidates must agree. Peak memory: tracemalloc over one warmed-up cycle."""
+    if not kernels.enabled():
+        print("\n(compiled kernels unavailable or SOCIALNAV_KERNELS=reference: skipped)")
+        return
+    params = LocalPlannerParams(*SAMPLINGS[-1])
+    predict = PRESETS.get("paccet").predict_people
+    print(
+        "\n## PaCcET cycle, compiled kernels vs the NumPy reference (same run, interleaved; "
+        f"kernel compile/cache load {kernels.compile_seconds:.2f} s, at construction)\n"
+    )
+    header = [
+        "people",
+        "N",
+        "variant",
+        "cycle wall (median)",
+        "cycle wall (min)",
+        "cycle CPU (median)",
+        "speed-up (CPU)",
+        "peak memory",
+    ]
+    body: list[list[str]] = []
+    for n_people in sorted(scenes):
+        scene = scenes[n_people]
+        runs = {}
+        for flag in (False, True):
+            planner = build_local_planner("paccet", ROBOT, scene.social, params)
+
+            def cycle(planner=planner, flag=flag, scene=scene):
+                previous = kernels.set_enabled(flag)
+                try:
+                    return planner.plan(make_context(scene, predict), record=True)
+                finally:
+                    kernels.set_enabled(previous)
+
+            runs[flag] = cycle
+        ref, fast = runs[False](), runs[True]()
+        assert ref.record is not None and fast.record is not None
+        assert ref.record.chosen == fast.record.chosen, "compiled and reference choices differ"
+        timed = time_interleaved([runs[False], runs[True]], repeats, warmup=1)
+        for (name, flag), (w, wmin, c) in zip(
+            (("numpy reference", False), ("compiled", True)), timed, strict=True
+        ):
+            peak = peak_memory(runs[flag])
+            body.append(
+                [
+                    str(n_people),
+                    str(fast.record.num_samples),
+                    name,
+                    format_seconds(w),
+                    format_seconds(wmin),
+                    format_seconds(c),
+                    f"{timed[0][2] / c:.1f}x" if flag else "",
+                    f"{peak / 2**20:.1f} MB",
+                ]
+            )
+    print_table(header, body)
+
+
 def main(quick: bool = False) -> None:
     repeats, warmup = (5, 1) if quick else (25, 3)
     static = static_costmap()
@@ -304,7 +379,7 @@ def main(quick: bool = False) -> None:
     ]
     body: list[list[str]] = []
     # Stage breakdowns: the brief's case (5 people, N ≈ 400) and the slowest (20, N ≈ 2000).
-    wanted = {(5, SAMPLINGS[0]): {}, (20, SAMPLINGS[-1]): {}}
+    wanted = {(5, SAMPLINGS[0]): {}, (20, SAMPLINGS[-1]): {}, (50, SAMPLINGS[-1]): {}}
     breakdowns: dict[tuple[int, tuple[int, int, int]], dict[str, Measured]] = wanted
     poses_per_rollout = {}
     sample_counts = {}
@@ -364,6 +439,7 @@ def main(quick: bool = False) -> None:
     print_table(header, body)
     for (n_people, samples), measured in breakdowns.items():
         print_breakdown(f"Stage medians, {n_people} people, N = {sample_counts[samples]}", measured)
+    compiled_vs_reference(scenes, repeats)
 
 
 if __name__ == "__main__":

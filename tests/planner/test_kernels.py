@@ -12,10 +12,10 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from socialnav.core.robot import PIONEER, PR2
-from socialnav.core.scene import Person, SocialContext
+from socialnav.core.scene import Group, Person, SocialContext
 from socialnav.planner import kernels
 from socialnav.planner.context import PlanningContext
-from socialnav.planner.critics import InterpersonalCritic, OccupancyCritic
+from socialnav.planner.critics import GroupCritic, InterpersonalCritic, OccupancyCritic
 from socialnav.planner.local_planner import LocalPlannerParams
 from socialnav.planner.presets import build_local_planner
 from socialnav.planner.rollout import RolloutParams, rollout
@@ -57,7 +57,8 @@ def scene(seed: int, n_people: int, robot=PR2):
         )
         for i in range(n_people)
     )
-    social = SocialContext(people)
+    groups = (Group((0, 1, 2)),) if n_people >= 3 else ()
+    social = SocialContext(people, groups)
     if people and rng.random() < 0.5:
         discs = np.column_stack([social.positions(), social.radii()])
         costmap = add_obstacle_discs(costmap, discs, robot.inscribed_radius)
@@ -115,6 +116,9 @@ def test_critics_bit_identical(
         OccupancyCritic(footprint=footprint, circumscribed_cost=circumscribed),
         InterpersonalCritic(evaluation="max_over_time"),
         InterpersonalCritic(distance="edge", person_slot=1),
+        GroupCritic(),
+        GroupCritic(evaluation="max_over_time", illegal_inside=True),
+        GroupCritic(illegal_inside=True, influence_range=1.0),
     ]
     params = RolloutParams(1.7, 0.025, 0.1)
     results = {}

@@ -312,6 +312,35 @@ def min_squared_distances(
     )
 
 
+@_jit
+def _time_box_kernel(xy, lo, hi):  # type: ignore[no-untyped-def]
+    n, t = xy.shape[0], xy.shape[1]
+    for k in range(t):
+        for a in range(2):
+            lo[k, a] = np.inf
+            hi[k, a] = -np.inf
+    for i in range(n):
+        for k in range(t):
+            for a in range(2):
+                v = xy[i, k, a]
+                if v < lo[k, a] or v != v:
+                    lo[k, a] = v
+                if v > hi[k, a] or v != v:
+                    hi[k, a] = v
+
+
+def time_box(xy: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Per-time box of the rollout points: ``xy.min(axis=0)``, ``xy.max(axis=0)`` ``(T, 2)``
+    for ``xy (N, T, 2)`` (or poses ``(N, T, 3)``), with NumPy's NaN propagation."""
+    xy = np.ascontiguousarray(xy, dtype=np.float64)
+    lo = np.empty((xy.shape[1], 2))
+    hi = np.empty((xy.shape[1], 2))
+    if xy.shape[0] == 0:  # NumPy raises on an empty reduction: keep that behaviour
+        return xy[..., :2].min(axis=0), xy[..., :2].max(axis=0)
+    _time_box_kernel(xy, lo, hi)
+    return lo, hi
+
+
 # ---- BFS map grids ---------------------------------------------------------------------------
 
 
@@ -400,6 +429,8 @@ def warmup() -> float:
     out = np.full((2, 1), np.inf)
     min_squared_distances(poses, np.zeros((4, 1, 2)), np.array([0], np.intp), out)
     bfs_distance(np.ones((3, 3), dtype=bool), np.array([[1, 1]], dtype=np.intp))
+    time_box(poses)
+    min_squared_distances(poses[:, -1:], np.zeros((1, 1, 2)), np.array([0], np.intp), out)
     compile_seconds = time.perf_counter() - start
     _warm = True
     return compile_seconds

@@ -57,6 +57,10 @@ def footprint_radius(ctx: PlanningContext, which: str) -> float:
     return ctx.robot.inscribed_radius if which == "inscribed" else ctx.robot.circumscribed_radius
 
 
+def _box(xy: FloatArray) -> tuple[FloatArray, FloatArray]:
+    return xy.min(axis=0), xy.max(axis=0)
+
+
 def min_squared_distances(
     trajs: Trajectories, ctx: PlanningContext, reach: FloatArray
 ) -> FloatArray:
@@ -75,7 +79,7 @@ def min_squared_distances(
         xy = trajs.xy
         forecast = ctx.people_at(trajs.t)  # (T, K, 2)
         # Per-time box of the rollout points → a lower bound on each person's distance.
-        lo, hi = xy.min(axis=0), xy.max(axis=0)  # (T, 2)
+        lo, hi = kernels.time_box(trajs.poses) if kernels.enabled() else _box(xy)  # (T, 2)
         gap = np.maximum(lo[:, None] - forecast, 0.0) + np.maximum(forecast - hi[:, None], 0.0)
         bound = np.sqrt((gap * gap).sum(axis=-1)).min(axis=0)  # (K,)
         d2min = np.full((len(trajs), forecast.shape[1]), np.inf)
