@@ -233,3 +233,39 @@ def test_bfs_grid_identical(seed: int, density: float, n_seeds: int, settle: boo
         assert np.array_equal(ref[region], fast[region])
         finite = np.isfinite(ref)
         assert np.array_equal(ref[finite], fast[finite])
+
+
+@settings(max_examples=30)
+@given(
+    seed=st.integers(0, 2**31 - 1),
+    density=st.floats(0.0, 0.5),
+    neutral=st.floats(1.0, 100.0),
+    factor=st.floats(0.0, 5.0),
+)
+def test_global_plan_identical(seed: int, density: float, neutral: float, factor: float) -> None:
+    """Same graph weights bit for bit, hence the same Dijkstra plan and cost."""
+    from socialnav.planner.global_planner import grid_graph, plan_path, traversable
+    from socialnav.world.grid import Costmap
+
+    rng = np.random.default_rng(seed)
+    shape = tuple(int(v) for v in rng.integers(3, 50, 2))
+    costs = rng.integers(0, 253, shape).astype(np.uint8)
+    costs[rng.random(shape) < density] = 254
+    costs[rng.random(shape) < 0.05] = 255
+    costmap = Costmap(costs, GridGeometry(shape, 0.1))
+    passable = traversable(costs, allow_unknown=bool(seed % 2))
+    start = rng.uniform(0.0, 0.1 * np.array(shape[::-1]), 2)
+    goal = rng.uniform(0.0, 0.1 * np.array(shape[::-1]), 2)
+    out = {}
+    for flag in (False, True):
+        with compiled(flag):
+            g = grid_graph(costs, 0.1, passable, neutral, factor)
+            plan = plan_path(costmap, start, goal, neutral, factor, tolerance=0.3)
+            out[flag] = (g, plan)
+    (g0, p0), (g1, p1) = out[False], out[True]
+    assert np.array_equal(g0.data, g1.data)
+    assert np.array_equal(g0.indices, g1.indices) and np.array_equal(g0.indptr, g1.indptr)
+    assert p0.status == p1.status and p0.cost == p1.cost
+    assert (p0.path is None) == (p1.path is None)
+    if p0.path is not None:
+        assert np.array_equal(p0.path, p1.path)

@@ -341,6 +341,53 @@ def time_box(xy: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.f
     return lo, hi
 
 
+# ---- global planner graph --------------------------------------------------------------------
+
+
+@_jit
+def _grid_weights_kernel(costs, passable, offsets, steps, neutral, half_factor, out):  # type: ignore[no-untyped-def]
+    rows, cols = costs.shape
+    for r in range(rows):
+        for c in range(cols):
+            cu = np.float64(costs[r, c])
+            for k in range(offsets.shape[0]):
+                dr, dc = offsets[k, 0], offsets[k, 1]
+                rn, cn = r + dr, c + dc
+                inside = 0 <= rn < rows and 0 <= cn < cols
+                ok = passable[r, c] and inside and passable[rn, cn]
+                if ok and dr != 0 and dc != 0:
+                    ok = passable[rn, c] and passable[r, cn]
+                if ok:
+                    out[r, c, k] = steps[k] * (
+                        neutral + half_factor * (cu + np.float64(costs[rn, cn]))
+                    )
+                else:
+                    out[r, c, k] = np.inf
+
+
+def grid_weights(
+    costs: NDArray[np.uint8],
+    passable: NDArray[np.bool_],
+    offsets: NDArray[np.int64],
+    steps: NDArray[np.float64],
+    neutral_cost: float,
+    cost_factor: float,
+) -> NDArray[np.float64]:
+    """Edge weights ``(rows, cols, 8)`` of the global planner's 8-slot grid graph, exactly as
+    :func:`socialnav.planner.global_planner.grid_graph` computes them (``inf`` = no edge)."""
+    out = np.empty((*costs.shape, offsets.shape[0]))
+    _grid_weights_kernel(
+        np.ascontiguousarray(costs, dtype=np.uint8),
+        np.ascontiguousarray(passable, dtype=np.bool_),
+        np.ascontiguousarray(offsets, dtype=np.int64),
+        np.ascontiguousarray(steps, dtype=np.float64),
+        float(neutral_cost),
+        float(cost_factor) * 0.5,
+        out,
+    )
+    return out
+
+
 # ---- BFS map grids ---------------------------------------------------------------------------
 
 
@@ -430,6 +477,7 @@ def warmup() -> float:
     min_squared_distances(poses, np.zeros((4, 1, 2)), np.array([0], np.intp), out)
     bfs_distance(np.ones((3, 3), dtype=bool), np.array([[1, 1]], dtype=np.intp))
     time_box(poses)
+    grid_weights(costs, costs == 0, np.array([[0, 1]]), np.array([0.25]), 50.0, 3.0)
     min_squared_distances(poses[:, -1:], np.zeros((1, 1, 2)), np.array([0], np.intp), out)
     compile_seconds = time.perf_counter() - start
     _warm = True
