@@ -158,5 +158,62 @@ def list_components() -> None:
         typer.echo(f"planner {name}: {entry.description}{default}")
 
 
+@app.command("export-bag")
+def export_bag(
+    run_dir: Annotated[Path, typer.Argument(help="Folder written by `socialnav run`.")],
+    fmt: Annotated[str, typer.Option("--format", help="rosbag2 storage: mcap or sqlite3.")] = (
+        "mcap"
+    ),
+    out: Annotated[Path | None, typer.Option(help="Bag folder; default RUN_DIR/bag.")] = None,
+    overwrite: Annotated[bool, typer.Option(help="Replace an existing bag folder.")] = False,
+) -> None:
+    """Export a run as a rosbag2 (map, odom frame, plans, people) for RViz, Foxglove, ros2 bag."""
+    from socialnav.experiments.storage import EPISODE_FILE, load_episode
+    from socialnav.integrations.rosbag import export_rosbag
+
+    if fmt not in ("mcap", "sqlite3"):
+        _fail(f"unknown bag format {fmt!r}; use mcap or sqlite3")
+    if not (run_dir / EPISODE_FILE).is_file():
+        _fail(f"{run_dir}: not a run folder (no {EPISODE_FILE}); write one with `socialnav run`")
+    record = load_episode(run_dir)
+    target = out if out is not None else run_dir / "bag"
+    try:
+        path = export_rosbag(record, target, storage=fmt, overwrite=overwrite)  # type: ignore[arg-type]
+    except (FileExistsError, ImportError, ValueError) as exc:
+        _fail(str(exc))
+        return
+    typer.echo(f"wrote {path}")
+
+
+# --- ROS 2 --------------------------------------------------------------------------------
+
+
+@app.command("ros2", context_settings={"allow_extra_args": True, "ignore_unknown_options": True})
+def ros2(
+    ctx: typer.Context,
+    params: Annotated[
+        Path | None, typer.Option(help="Nav2-style params file (socialnav: ros__parameters: ...).")
+    ] = None,
+) -> None:
+    """Run the socialnav ROS 2 lifecycle node; arguments after --ros-args go to ROS."""
+    import importlib.util
+
+    from socialnav.core.errors import ConfigurationError
+    from socialnav.integrations.ros2 import INSTALL_HINT
+    from socialnav.integrations.ros2.params import load_params_file
+
+    if params is not None:
+        try:
+            load_params_file(params)
+        except ConfigurationError as exc:
+            _fail(str(exc))
+    if importlib.util.find_spec("rclpy") is None:
+        _fail(INSTALL_HINT)
+    from socialnav.integrations.ros2.node import main
+
+    extra = [a for a in ctx.args if a != "--ros-args"]
+    raise typer.Exit(code=main(None if params is None else str(params), extra))
+
+
 if __name__ == "__main__":
     app()

@@ -7,6 +7,7 @@ It comes from a scenario file or, later, from perception; the planner only ever 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -78,24 +79,37 @@ class Artwork:
 
 
 @dataclass(frozen=True)
+class Structure:
+    """A social structure of a registered kind (``socialnav.social.structures.STRUCTURES``):
+    ``kind`` its registry name, ``params`` the kind's validated parameter model (frozen; its
+    fields are the kind's YAML keys), ``member_ids`` the people it involves."""
+
+    kind: str
+    params: Any
+    member_ids: tuple[int, ...] = ()
+
+
+@dataclass(frozen=True)
 class SocialContext:
-    """Everything social the planner may reason about, at one instant."""
+    """Everything social the planner may reason about, at one instant: ``people``, the paper's
+    ``groups``, ``queues`` and ``artworks``, and ``structures`` of any registered kind."""
 
     people: tuple[Person, ...] = ()
     groups: tuple[Group, ...] = ()
     queues: tuple[Queue, ...] = ()
     artworks: tuple[Artwork, ...] = ()
+    structures: tuple[Structure, ...] = ()
     _index: dict[int, int] = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         index = {p.id: i for i, p in enumerate(self.people)}
         if len(index) != len(self.people):
             raise InvalidInputError("person ids must be unique")
-        for g in (*self.groups, *self.queues, *self.artworks):
+        for g in (*self.groups, *self.queues, *self.artworks, *self.structures):
             ids = g.member_ids if not isinstance(g, Artwork) else g.viewer_ids
             missing = [i for i in ids if i not in index]
             if missing:
-                kind = type(g).__name__
+                kind = g.kind if isinstance(g, Structure) else type(g).__name__
                 raise InvalidInputError(f"{kind} refers to unknown person ids {missing}")
         object.__setattr__(self, "_index", index)
 
@@ -117,8 +131,8 @@ class SocialContext:
         return np.array([p.yaw for p in self.people], dtype=float)
 
     def with_people(self, people: tuple[Person, ...]) -> SocialContext:
-        """The same groups/queues/artworks with updated people (ids must still resolve)."""
-        return SocialContext(people, self.groups, self.queues, self.artworks)
+        """The same groups/queues/artworks/structures with updated people (ids must resolve)."""
+        return SocialContext(people, self.groups, self.queues, self.artworks, self.structures)
 
     @classmethod
     def in_view(
@@ -127,10 +141,12 @@ class SocialContext:
         groups: tuple[Group, ...] = (),
         queues: tuple[Queue, ...] = (),
         artworks: tuple[Artwork, ...] = (),
+        structures: tuple[Structure, ...] = (),
     ) -> SocialContext:
         """The context of the ``people`` in view: groups and queues keep only the members in
         view (a group needs two, a queue one, or it is dropped); artworks keep their viewers
-        in view. Raises ``InvalidInputError`` on duplicate person ids."""
+        in view; structures keep their members in view (dropped when all are gone). Raises
+        ``InvalidInputError`` on duplicate person ids."""
         present = {p.id for p in people}
         kept_groups = tuple(
             Group(ids, g.mode)
@@ -146,7 +162,12 @@ class SocialContext:
             Artwork(a.center, a.width, a.facing, tuple(i for i in a.viewer_ids if i in present))
             for a in artworks
         )
-        return cls(tuple(people), kept_groups, kept_queues, kept_art)
+        kept_structures = tuple(
+            Structure(st.kind, st.params, ids)
+            for st in structures
+            if (ids := tuple(i for i in st.member_ids if i in present)) or not st.member_ids
+        )
+        return cls(tuple(people), kept_groups, kept_queues, kept_art, kept_structures)
 
     def within(self, center: FloatArray, radius: float) -> SocialContext:
         """The people within ``radius`` m of ``center (2,)`` (world frame), with their groups,
@@ -158,4 +179,6 @@ class SocialContext:
         if keep.all():
             return self
         people = tuple(p for p, k in zip(self.people, keep, strict=True) if k)
-        return SocialContext.in_view(people, self.groups, self.queues, self.artworks)
+        return SocialContext.in_view(
+            people, self.groups, self.queues, self.artworks, self.structures
+        )

@@ -4,19 +4,24 @@ the recorded trajectory only.
 The families are the experiments of Banisetty et al. (section "Results"), which judges them
 from figures; these measurable conditions are the project's (scenarios.md).
 
-Every family:
-- ``reached_goal``: within tolerance of ``record.target`` (the social goal where the scenario
-  has one) from some sample on until the end, reached within ``record.time_limit``. The
-  tolerance is ``record.goal_tolerance``; for the families whose target is a social spot
-  (``gallery_present``, ``queue``, ``group``) it is ``max(goal_tolerance, 0.3)``, so that a
-  robot ending inside the 0.3 m spot radius of scenarios.md counts as arrived whatever the
-  planner's own (tighter) goal tolerance was.
+Which conditions apply is data: the record's ``success`` list (its family's declaration in
+:data:`socialnav.core.success.FAMILIES`, its social structures' conditions, and the scenario's
+``success:`` overrides), or, for a record without one, the declaration of its family and
+structures. This module registers the checks of the built-in conditions in
+:data:`socialnav.core.success.CONDITIONS`:
+
+- ``reached_goal``: within tolerance of ``record.target`` (the target the controller recorded
+  driving to) from some sample on until the end, reached within ``record.time_limit``. The
+  tolerance is ``max(record.goal_tolerance, tolerance)`` (m): the families whose target is a
+  social spot (``gallery_present``, ``queue``, ``group``) declare 0.3, so that a robot ending
+  inside the 0.3 m spot radius of scenarios.md counts as arrived whatever the planner's own
+  (tighter) goal tolerance was.
 - ``no_collision``: no sample flagged in ``collision_person`` or ``collision_obstacle``.
 
 Per family (``record.family``; ``custom`` has only the common conditions):
 - ``hallway``: ``no_personal_space_intrusion`` — the centre-to-centre distance to every person
-  stays >= 1.2 m. In scenario ``hallway_headon`` it is reported but *not required* (the person
-  never yields; the robot can only yield as far as the walls allow).
+  stays >= 1.2 m (the tolerance). Scenario ``hallway_headon`` marks it *not required* in its
+  YAML (the person never yields; the robot can only yield as far as the walls allow).
 - ``gallery_present``: ``at_presenter_spot`` (final |p - target| <= 0.3 m) and
   ``outside_activity_space`` (the footprint never overlaps an activity-space trapezoid).
 - ``gallery_activity``: ``outside_activity_space`` (zero time inside); reaching the goal is the
@@ -29,19 +34,20 @@ Per family (``record.family``; ``custom`` has only the common conditions):
   within 0.5 rad of the bearing to the group centre) and ``outside_o_space`` (the robot *centre*
   never inside the disc of radius R - 0.3; see ``metrics.scenario`` for why the centre).
 
+Spot tolerances (0.3 m) and heading tolerances (0.5 rad) are the conditions' defaults.
 ``evaluate_success`` returns every condition (required or not) plus ``"success"`` = all
 *required* conditions. A record whose family needs a queue, group or viewed artwork that its
-``context`` lacks raises a ValueError.
+``context`` lacks raises an ``InvalidInputError``; an unknown family or condition a
+``ConfigurationError`` listing the known ones.
 """
 
 from __future__ import annotations
-
-from dataclasses import dataclass
 
 import numpy as np
 
 from socialnav.core.episode import EpisodeRecord
 from socialnav.core.errors import InvalidInputError
+from socialnav.core.success import CONDITIONS, FAMILIES, Condition, ConditionCheck, ConditionSpec
 from socialnav.metrics.base import validate_record
 from socialnav.metrics.scenario import (
     activity_depth,
@@ -53,22 +59,12 @@ from socialnav.metrics.scenario import (
 )
 from socialnav.metrics.series import closest_distance, reached_within_limit
 from socialnav.social.proxemics import PERSONAL
+from socialnav.social.structures import structure_conditions
 
-FAMILIES = ("hallway", "gallery_present", "gallery_activity", "queue", "group", "custom")
+__all__ = ["Condition", "evaluate_success", "success_conditions", "success_spec"]
+
 SPOT_TOLERANCE = 0.3  # m, scenarios.md
 HEADING_TOLERANCE = 0.5  # rad, this library's choice (scenarios.md: "facing")
-PERSONAL_SPACE_OPTIONAL = frozenset({"hallway_headon"})
-SPOT_FAMILIES = frozenset({"gallery_present", "queue", "group"})
-
-
-@dataclass(frozen=True)
-class Condition:
-    """One success condition: ``name``, whether it ``passed``, whether it counts toward
-    ``success`` (``required``)."""
-
-    name: str
-    passed: bool
-    required: bool = True
 
 
 def _never(depth: np.ndarray | None, what: str, record: EpisodeRecord) -> bool:
@@ -79,47 +75,87 @@ def _never(depth: np.ndarray | None, what: str, record: EpisodeRecord) -> bool:
     return bool(np.all(depth <= 0.0))
 
 
+def _reached_goal(record: EpisodeRecord, tolerance: float) -> bool:
+    return reached_within_limit(record, max(record.goal_tolerance, tolerance))
+
+
+def _no_collision(record: EpisodeRecord, tolerance: float) -> bool:
+    return not bool(np.any(record.collision_person) or np.any(record.collision_obstacle))
+
+
+def _no_intrusion(record: EpisodeRecord, tolerance: float) -> bool:
+    return bool(np.all(closest_distance(record) >= tolerance))
+
+
+def _at_spot(record: EpisodeRecord, tolerance: float) -> bool:
+    return bool(final_spot_error(record) <= tolerance)
+
+
+def _outside_activity_space(record: EpisodeRecord, tolerance: float) -> bool:
+    return _never(activity_depth(record), "artwork viewer", record)
+
+
+def _facing_line(record: EpisodeRecord, tolerance: float) -> bool:
+    heading = queue_heading_error_value(record)
+    if np.isnan(heading):
+        raise InvalidInputError(f"queue record {record.scenario!r} has no queue in context")
+    return bool(heading <= tolerance)
+
+
+def _no_cut_in(record: EpisodeRecord, tolerance: float) -> bool:
+    return _never(cut_in_depth(record), "queue of >= 2 people", record)
+
+
+def _facing_centre(record: EpisodeRecord, tolerance: float) -> bool:
+    return bool(group_heading_error_value(record) <= tolerance)
+
+
+def _outside_o_space(record: EpisodeRecord, tolerance: float) -> bool:
+    return _never(ospace_depth_center(record), "group", record)
+
+
+_BUILTIN = {
+    "reached_goal": ConditionCheck(
+        _reached_goal, 0.0, "m", "within max(goal_tolerance, tolerance) of the target, to the end"
+    ),
+    "no_collision": ConditionCheck(_no_collision, description="no contact with people or walls"),
+    "no_personal_space_intrusion": ConditionCheck(
+        _no_intrusion, PERSONAL, "m", "centre distance to every person >= tolerance"
+    ),
+    "at_presenter_spot": ConditionCheck(_at_spot, SPOT_TOLERANCE, "m", "ends at the spot"),
+    "at_tail_slot": ConditionCheck(_at_spot, SPOT_TOLERANCE, "m", "ends at the tail slot"),
+    "at_free_spot": ConditionCheck(_at_spot, SPOT_TOLERANCE, "m", "ends at the free spot"),
+    "outside_activity_space": ConditionCheck(
+        _outside_activity_space, description="footprint never in an activity space"
+    ),
+    "facing_line": ConditionCheck(
+        _facing_line, HEADING_TOLERANCE, "rad", "ends facing the last queue member"
+    ),
+    "no_cut_in": ConditionCheck(_no_cut_in, description="never between consecutive members"),
+    "facing_centre": ConditionCheck(
+        _facing_centre, HEADING_TOLERANCE, "rad", "ends facing the group centre"
+    ),
+    "outside_o_space": ConditionCheck(
+        _outside_o_space, description="centre never inside the o-space (R - 0.3 m)"
+    ),
+}
+for _name, _check in _BUILTIN.items():
+    if _name not in CONDITIONS:
+        CONDITIONS.add(_name, _check)
+
+
+def success_spec(record: EpisodeRecord) -> tuple[ConditionSpec, ...]:
+    """The conditions ``record`` is judged on: its own ``success`` list, else its family's
+    declaration followed by its social structures' conditions."""
+    if record.success:
+        return record.success
+    return FAMILIES.get(record.family).conditions + structure_conditions(record.context.structures)
+
+
 def success_conditions(record: EpisodeRecord) -> list[Condition]:
-    """The conditions of ``record.family`` evaluated on the record (see module docstring)."""
+    """Every condition of :func:`success_spec` evaluated on the record (see module docstring)."""
     validate_record(record)
-    if record.family not in FAMILIES:
-        raise InvalidInputError(f"unknown family {record.family!r}; known: {FAMILIES}")
-    collided = bool(np.any(record.collision_person) or np.any(record.collision_obstacle))
-    tolerance = record.goal_tolerance
-    if record.family in SPOT_FAMILIES:
-        tolerance = max(tolerance, SPOT_TOLERANCE)
-    out = [
-        Condition("reached_goal", reached_within_limit(record, tolerance)),
-        Condition("no_collision", not collided),
-    ]
-    family = record.family
-    if family == "hallway":
-        ok = bool(np.all(closest_distance(record) >= PERSONAL))
-        required = record.scenario not in PERSONAL_SPACE_OPTIONAL
-        out.append(Condition("no_personal_space_intrusion", ok, required))
-    elif family in ("gallery_present", "gallery_activity"):
-        if family == "gallery_present":
-            at_spot = final_spot_error(record) <= SPOT_TOLERANCE
-            out.append(Condition("at_presenter_spot", at_spot))
-        outside = _never(activity_depth(record), "artwork viewer", record)
-        out.append(Condition("outside_activity_space", outside))
-    elif family == "queue":
-        heading = queue_heading_error_value(record)
-        if np.isnan(heading):
-            raise InvalidInputError(f"queue record {record.scenario!r} has no queue in context")
-        out += [
-            Condition("at_tail_slot", final_spot_error(record) <= SPOT_TOLERANCE),
-            Condition("facing_line", heading <= HEADING_TOLERANCE),
-            Condition("no_cut_in", _never(cut_in_depth(record), "queue of >= 2 people", record)),
-        ]
-    elif family == "group":
-        outside = _never(ospace_depth_center(record), "group", record)
-        out += [
-            Condition("at_free_spot", final_spot_error(record) <= SPOT_TOLERANCE),
-            Condition("facing_centre", group_heading_error_value(record) <= HEADING_TOLERANCE),
-            Condition("outside_o_space", outside),
-        ]
-    return out
+    return [CONDITIONS.get(spec.name).evaluate(record, spec) for spec in success_spec(record)]
 
 
 def evaluate_success(record: EpisodeRecord) -> dict[str, bool]:

@@ -183,6 +183,12 @@ class Navigator:
                 np.zeros(3), PlannerStatus.INVALID_INPUT, None, f"{type(exc).__name__}: {exc}"
             )
 
+    @property
+    def global_path(self) -> FloatArray | None:
+        """The global plan ``(P, 2)`` (m, world frame) the last ``step`` followed, pruned behind
+        the robot; ``None`` before the first plan or when planning failed (ROS ``/plan``)."""
+        return self._path
+
     # ---- internals ------------------------------------------------------------------------
     def _invalid(self, time: float, pose_in: Any, vel_in: Any, social: Any) -> str:
         if not np.isfinite(time):

@@ -89,8 +89,14 @@ PRESETS: Registry[PlannerPreset] = Registry("planner preset")
 
 
 def has_social_goal(social: SocialContext) -> bool:
-    """Scenes whose structure yields a social goal (queue, group, artwork with a viewer)."""
-    return bool(social.queues or social.groups or any(a.viewer_ids for a in social.artworks))
+    """Scenes whose structure may yield a social goal (queue, group, artwork with a viewer, a
+    structure of a registered kind)."""
+    return bool(
+        social.queues
+        or social.groups
+        or social.structures
+        or any(a.viewer_ids for a in social.artworks)
+    )
 
 
 def navigation_only(

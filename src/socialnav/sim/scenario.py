@@ -38,12 +38,24 @@ from pydantic import (
 from socialnav.core.errors import ConfigurationError
 from socialnav.core.geometry import FloatArray
 from socialnav.core.robot import RobotModel
-from socialnav.core.scene import HUMAN_RADIUS, Artwork, Group, Person, Queue, SocialContext
+from socialnav.core.scene import (
+    HUMAN_RADIUS,
+    Artwork,
+    Group,
+    Person,
+    Queue,
+    SocialContext,
+    Structure,
+)
+from socialnav.core.success import FAMILIES, ConditionOverride, ConditionSpec, apply_overrides
 from socialnav.social.spaces import fit_circle
+from socialnav.social.structures import (
+    make_structure,
+    structure_conditions,
+    structure_json_schemas,
+)
 from socialnav.world.grid import Costmap, GridGeometry
 
-#: scenario families of the paper; "custom" = no family-specific success conditions
-FAMILIES = ("hallway", "gallery_present", "gallery_activity", "queue", "group", "custom")
 DISC_POLYGON_SIDES = 24
 
 
@@ -234,6 +246,25 @@ class ArtworkSpec(_Model):
     viewers: list[int] = Field(default_factory=list)
 
 
+class SuccessOverride(_Model):
+    """A scenario's change to one success condition (``success: {NAME: {...}}``)."""
+
+    required: bool | None = Field(None, description="whether the condition counts toward success")
+    tolerance: Finite | None = Field(None, description="the condition's tolerance, in its unit")
+
+
+def _known_family(value: str) -> str:
+    if value not in FAMILIES:
+        raise ValueError(FAMILIES.unknown_message(value))
+    return value
+
+
+def _structures(value: list[dict[str, Any]]) -> list[dict[str, Any]]:
+    for i, item in enumerate(value):
+        make_structure(item, where=str(i))  # raises with the entry's index and field
+    return value
+
+
 class Jitter(_Model):
     """Per-seed randomization (see :meth:`Scenario.randomize`)."""
 
@@ -252,7 +283,9 @@ class Scenario(_Model):
     """One test situation: map, robot start and given goal, people and their social structure."""
 
     name: str
-    family: Literal["hallway", "gallery_present", "gallery_activity", "queue", "group", "custom"]
+    family: Annotated[str, AfterValidator(_known_family)] = Field(
+        description="a registered scenario family (socialnav.core.success.FAMILIES)"
+    )
     description: str = ""
     map: MapSpec = Field(default_factory=MapSpec)
     start: Pose
@@ -262,6 +295,14 @@ class Scenario(_Model):
     groups: list[GroupSpec] = Field(default_factory=list)
     queues: list[QueueSpec] = Field(default_factory=list)
     artworks: list[ArtworkSpec] = Field(default_factory=list)
+    structures: Annotated[list[dict[str, Any]], AfterValidator(_structures)] = Field(
+        default_factory=list,
+        description="social structures of registered kinds: {type: KIND, ...its parameters}",
+    )
+    success: dict[str, SuccessOverride] = Field(
+        default_factory=dict,
+        description="per-condition overrides of the family's success conditions",
+    )
     time_limit: Positive = 60.0
     control_period: Positive = 0.1
     seed: int = 0
@@ -285,6 +326,11 @@ class Scenario(_Model):
                 missing = [m for m in getattr(item, attr) if m not in known]
                 if missing:
                     raise ValueError(f"{kind}.{i}.{attr}: unknown person ids {missing}")
+        for i, structure in enumerate(self.structure_list()):
+            missing = [m for m in structure.member_ids if m not in known]
+            if missing:
+                raise ValueError(f"structures.{i}: unknown person ids {missing}")
+        self.success_spec()  # an override of a condition that does not apply fails here
         if self.control_period > self.time_limit:
             raise ValueError("control_period must not exceed time_limit")
         return self
@@ -328,8 +374,25 @@ class Scenario(_Model):
         )
         return self.context_with_people(people)
 
+    def structure_list(self) -> tuple[Structure, ...]:
+        """The ``structures:`` entries, validated by their kinds."""
+        return tuple(
+            make_structure(s, where=f"structures.{i}") for i, s in enumerate(self.structures)
+        )
+
+    def success_spec(self) -> tuple[ConditionSpec, ...]:
+        """The conditions this scenario is judged on: its family's, its structures', with its
+        ``success:`` overrides applied. Raises ``ConfigurationError`` for an override of a
+        condition that does not apply."""
+        specs = FAMILIES.get(self.family).conditions + structure_conditions(self.structure_list())
+        overrides = {
+            k: ConditionOverride(v.required, None if v.tolerance is None else float(v.tolerance))
+            for k, v in self.success.items()
+        }
+        return apply_overrides(specs, overrides, where=self.name)
+
     def context_with_people(self, people: tuple[Person, ...]) -> SocialContext:
-        """Groups, queues and artworks of this scenario around the given people."""
+        """Groups, queues, artworks and structures of this scenario around the given people."""
         return SocialContext(
             people=people,
             groups=tuple(Group(tuple(g.members), g.mode) for g in self.groups),
@@ -350,6 +413,7 @@ class Scenario(_Model):
                 )
                 for a in self.artworks
             ),
+            structures=self.structure_list(),
         )
 
     # -- geometry -----------------------------------------------------------------------------
@@ -706,6 +770,11 @@ def _load_file(path: Path) -> Scenario:
 def scenario_json_schema() -> dict[str, Any]:
     """JSON Schema of scenario files (for editors and ``socialnav schema``)."""
     schema = Scenario.model_json_schema()
+    props = schema["properties"]
+    props["family"]["enum"] = FAMILIES.names()
+    kinds = structure_json_schemas()
+    if kinds:
+        props["structures"]["items"] = {"oneOf": kinds}
     schema["$schema"] = "https://json-schema.org/draft/2020-12/schema"
     schema.setdefault("title", "socialnav scenario")
     return schema

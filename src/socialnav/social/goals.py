@@ -46,7 +46,9 @@ from socialnav.social.spaces import (
     segment_polygon_distance,
 )
 
-GoalKind = Literal["queue_tail", "o_formation", "o_formation_lead", "presenter", "waypoint"]
+#: built-in kinds: queue_tail, o_formation, o_formation_lead, presenter, waypoint; a structure
+#: kind of :mod:`socialnav.social.structures` names its own
+GoalKind = str
 FreeFn = Callable[[FloatArray], NDArray[np.bool_]]
 
 #: Default tolerances of a stopping social goal (the scenarios' success radius is 0.3 m).
