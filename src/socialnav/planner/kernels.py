@@ -341,6 +341,39 @@ def time_box(xy: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.f
     return lo, hi
 
 
+@_jit
+def _nearest_vertex_kernel(points, vertices, out):  # type: ignore[no-untyped-def]
+    for i in range(points.shape[0]):
+        px, py = points[i, 0], points[i, 1]
+        best = np.inf
+        arg = 0
+        for v in range(vertices.shape[0]):
+            dx = px - vertices[v, 0]
+            dy = py - vertices[v, 1]
+            d = dx * dx + dy * dy
+            if d < best:
+                best = d
+                arg = v
+            elif d != d:  # argmin returns the first NaN
+                arg = v
+                break
+        out[i] = arg
+
+
+def nearest_vertex(points: NDArray[np.float64], vertices: NDArray[np.float64]) -> NDArray[np.intp]:
+    """``(N,)`` index of the vertex ``(P, 2)`` nearest each point ``(N, >= 2)`` (first on ties),
+    as ``argmin`` of the squared distances."""
+    out = np.empty(points.shape[0], dtype=np.intp)
+    if vertices.shape[0] == 0:  # argmin of an empty row raises: keep that behaviour
+        raise ValueError("attempt to get argmin of an empty sequence")
+    _nearest_vertex_kernel(
+        np.ascontiguousarray(points, dtype=np.float64),
+        np.ascontiguousarray(vertices, dtype=np.float64),
+        out,
+    )
+    return out
+
+
 # ---- global planner graph --------------------------------------------------------------------
 
 
@@ -477,6 +510,7 @@ def warmup() -> float:
     min_squared_distances(poses, np.zeros((4, 1, 2)), np.array([0], np.intp), out)
     bfs_distance(np.ones((3, 3), dtype=bool), np.array([[1, 1]], dtype=np.intp))
     time_box(poses)
+    nearest_vertex(poses[:, -1], np.zeros((2, 2)))
     grid_weights(costs, costs == 0, np.array([[0, 1]]), np.array([0.25]), 50.0, 3.0)
     min_squared_distances(poses[:, -1:], np.zeros((1, 1, 2)), np.array([0], np.intp), out)
     compile_seconds = time.perf_counter() - start
