@@ -73,12 +73,14 @@ PEOPLE_COUNTS = (1, 5, 10, 20, 50)
 SAMPLINGS = ((9, 5, 9), (13, 9, 17))
 
 
+WALLS = np.array([[[0.3, 0.6], [9.7, 0.6]], [[0.3, 9.4], [9.7, 9.4]], [[6.5, 0.6], [6.5, 3.0]]])
+BOXES = [np.array([[3.0, 6.8], [3.8, 6.8], [3.8, 7.6], [3.0, 7.6]])]
+PILLAR = np.array([[5.0, 3.6, 0.2]])
+
+
 def static_costmap() -> Costmap:
     geom = GridGeometry((200, 200), 0.05)
-    walls = np.array([[[0.3, 0.6], [9.7, 0.6]], [[0.3, 9.4], [9.7, 9.4]], [[6.5, 0.6], [6.5, 3.0]]])
-    boxes = [np.array([[3.0, 6.8], [3.8, 6.8], [3.8, 7.6], [3.0, 7.6]])]
-    pillar = np.array([[5.0, 3.6, 0.2]])
-    occ = rasterize(geom, segments=walls, polygons=boxes, discs=pillar, thickness=0.1)
+    occ = rasterize(geom, segments=WALLS, polygons=BOXES, discs=PILLAR, thickness=0.1)
     return inflate(occ, geom, ROBOT.inscribed_radius)
 
 
@@ -360,6 +362,50 @@ def compiled_vs_reference(scenes: dict[int, Scene], repeats: int) -> None:
     print_table(header, body)
 
 
+def navground_rows(scenes: dict[int, Scene], repeats: int) -> None:
+    """navground's HL, ORCA and SocialForce computing the robot's command in the same scenes
+    (walls, box edges and pillar as obstacles, the people as neighbours, the same goal): CPU
+    time per ``compute_cmd`` = one agent step."""
+    try:
+        from navground import core
+
+        from socialnav.sim.baselines import make_behavior
+    except ImportError:
+        print("\n(navground not installed: no navground rows)")
+        return
+    print("\n## navground behaviours in the same scenes (one agent step = one compute_cmd)\n")
+    header = ["people", "behaviour", "step CPU (median)", "step wall (median)"]
+    body: list[list[str]] = []
+    edges = [*WALLS, *(np.stack([b, np.roll(b, -1, axis=0)], axis=1) for b in BOXES)]
+    segments = [
+        core.LineSegment(tuple(map(float, a)), tuple(map(float, b)))
+        for group in edges
+        for a, b in np.asarray(group).reshape(-1, 2, 2)
+    ]
+    for n_people in sorted(scenes):
+        scene = scenes[n_people]
+        for name in ("HL", "ORCA", "SocialForce"):
+            behavior = make_behavior(name, ROBOT)
+            state = behavior.environment_state
+            state.line_obstacles = segments
+            state.static_obstacles = [core.Disc((x, y), r) for x, y, r in PILLAR.tolist()]
+            state.neighbors = [
+                core.Neighbor(p.position, p.radius, p.velocity, p.id) for p in scene.social.people
+            ]
+            behavior.pose = core.Pose2((float(POSE[0]), float(POSE[1])), float(POSE[2]))
+            behavior.twist = core.Twist2((float(VEL[0]), 0.0), 0.0, frame=core.Frame.relative)
+            behavior.target = core.Target(
+                position=(float(scene.goal[0]), float(scene.goal[1])), position_tolerance=0.1
+            )
+
+            def step(behavior=behavior):
+                return behavior.compute_cmd(0.1, core.Frame.relative)
+
+            ((w, _, c),) = time_interleaved([step], 10 * repeats, warmup=5)
+            body.append([str(n_people), name, format_seconds(c), format_seconds(w)])
+    print_table(header, body)
+
+
 def main(quick: bool = False) -> None:
     repeats, warmup = (5, 1) if quick else (25, 3)
     static = static_costmap()
@@ -440,6 +486,7 @@ def main(quick: bool = False) -> None:
     for (n_people, samples), measured in breakdowns.items():
         print_breakdown(f"Stage medians, {n_people} people, N = {sample_counts[samples]}", measured)
     compiled_vs_reference(scenes, repeats)
+    navground_rows(scenes, repeats)
 
 
 if __name__ == "__main__":
