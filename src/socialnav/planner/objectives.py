@@ -93,15 +93,15 @@ _REUSABLE = (
 
 
 class PreparedReuse:
-    """The previous cycle's prepared map grids (BFS grids, occupancy masks, densified plan),
-    handed to the next cycle when its inputs are identical byte for byte — the costmap's costs
-    and geometry, the robot's footprint, pose, goal, plan, the planner's reach and which kernel
-    path is active — so the values are exactly those a fresh preparation would give (Nav2
-    keeps its critics' map grids across cycles likewise when nothing changed)."""
+    """The last ``size`` cycles' prepared map grids (BFS grids, occupancy masks, densified plan),
+    handed to a later cycle whose inputs are identical byte for byte — the critics, the
+    costmap's costs and geometry, the robot's footprint, pose, goal, plan, the planner's reach
+    and which kernel path is active — so the values are exactly those a fresh preparation would
+    give (a robot waiting in a static window pays for its grids once)."""
 
-    def __init__(self) -> None:
-        self._key: tuple[object, ...] | None = None
-        self._data: dict[str, object] = {}
+    def __init__(self, size: int = 4) -> None:
+        self.size = size
+        self._entries: list[tuple[tuple[object, ...], dict[str, object]]] = []  # newest last
 
     @staticmethod
     def key(ctx: PlanningContext, critics: tuple[Critic, ...]) -> tuple[object, ...]:
@@ -125,14 +125,20 @@ class PreparedReuse:
 
     def restore(self, ctx: PlanningContext, critics: tuple[Critic, ...]) -> tuple[object, ...]:
         key = self.key(ctx, critics)
-        if key == self._key:
-            for name, value in self._data.items():
-                ctx.extras.setdefault(name, value)
+        for k, (entry_key, data) in enumerate(self._entries):
+            if entry_key == key:
+                for name, value in data.items():
+                    ctx.extras.setdefault(name, value)
+                self._entries.append(self._entries.pop(k))
+                break
         return key
 
     def keep(self, key: tuple[object, ...], ctx: PlanningContext) -> None:
-        self._key = key
-        self._data = {name: ctx.extras[name] for name in _REUSABLE if name in ctx.extras}
+        if self.size <= 0:  # reuse switched off
+            return
+        data = {name: ctx.extras[name] for name in _REUSABLE if name in ctx.extras}
+        self._entries = [e for e in self._entries if e[0] != key][-(self.size - 1) :]
+        self._entries.append((key, data))
 
 
 _REUSE = PreparedReuse()
