@@ -37,6 +37,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from bench_planner import fresh_grids
 from harness import format_seconds, time_interleaved
 from socialnav.core.robot import PR2
 from socialnav.core.scene import Group, Person, SocialContext
@@ -303,8 +304,10 @@ def peak_memory(fn: Callable[[], object]) -> int:
 
 def compiled_vs_reference(scenes: dict[int, Scene], repeats: int) -> None:
     """``paccet`` cycles at N ≈ 2000 on the compiled kernels and on the NumPy reference,
-    interleaved in one run (each on its own planner, so PaCcET's archive evolves alike); the
-    chosen candidates must agree. Peak memory: tracemalloc over one warmed-up cycle."""
+    interleaved in one run (each on its own planner, so PaCcET's archive evolves alike), with
+    fresh grids every cycle (a moving robot) and, compiled, with the prepared grids reused (this
+    scene is static); the chosen candidates must agree. Peak memory: tracemalloc over one
+    warmed-up cycle."""
     if not kernels.enabled():
         print("\n(compiled kernels unavailable or SOCIALNAV_KERNELS=reference: skipped)")
         return
@@ -328,7 +331,11 @@ def compiled_vs_reference(scenes: dict[int, Scene], repeats: int) -> None:
     for n_people in sorted(scenes):
         scene = scenes[n_people]
         runs = {}
-        for flag in (False, True):
+        for name, flag, fresh in (
+            ("numpy reference, fresh grids (baseline)", False, True),
+            ("compiled, fresh grids", True, True),
+            ("compiled, grids reused", True, False),
+        ):
             planner = build_local_planner("paccet", ROBOT, scene.social, params)
 
             def cycle(planner=planner, flag=flag, scene=scene):
@@ -338,24 +345,26 @@ def compiled_vs_reference(scenes: dict[int, Scene], repeats: int) -> None:
                 finally:
                     kernels.set_enabled(previous)
 
-            runs[flag] = cycle
-        ref, fast = runs[False](), runs[True]()
-        assert ref.record is not None and fast.record is not None
-        assert ref.record.chosen == fast.record.chosen, "compiled and reference choices differ"
-        timed = time_interleaved([runs[False], runs[True]], repeats, warmup=1)
-        for (name, flag), (w, wmin, c) in zip(
-            (("numpy reference", False), ("compiled", True)), timed, strict=True
-        ):
-            peak = peak_memory(runs[flag])
+            runs[name] = fresh_grids(cycle) if fresh else cycle
+        chosen = set()
+        for run in runs.values():
+            record = run().record
+            assert record is not None
+            chosen.add(record.chosen)
+        assert len(chosen) == 1, "compiled and reference choices differ"
+        timed = time_interleaved(list(runs.values()), repeats, warmup=1)
+        base = timed[0][2]
+        for (name, run), (w, wmin, c) in zip(runs.items(), timed, strict=True):
+            peak = peak_memory(run)
             body.append(
                 [
                     str(n_people),
-                    str(fast.record.num_samples),
+                    str(record.num_samples),
                     name,
                     format_seconds(w),
                     format_seconds(wmin),
                     format_seconds(c),
-                    f"{timed[0][2] / c:.1f}x" if flag else "",
+                    "" if c == base else f"{base / c:.1f}x",
                     f"{peak / 2**20:.1f} MB",
                 ]
             )
