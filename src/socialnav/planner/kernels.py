@@ -278,21 +278,24 @@ def occupancy_scan(
 
 
 @_jit
-def _d2min_kernel(xy, forecast, people, out):  # type: ignore[no-untyped-def]
-    n, t = xy.shape[0], xy.shape[1]  # xy (N, T, >= 2): x, y first
-    for jj in range(people.shape[0]):
-        j = people[jj]
-        for i in range(n):
-            best = np.inf
-            for k in range(t):
-                dx = xy[i, k, 0] - forecast[k, j, 0]
-                dy = xy[i, k, 1] - forecast[k, j, 1]
+def _d2min_kernel(xy, forecast, out):  # type: ignore[no-untyped-def]
+    """``out (N, J)`` = min over ``t`` of the squared distance of ``xy[i, t]`` to
+    ``forecast[t, j]`` (``forecast (T, J, 2)`` gathered, contiguous); NaN sticks as in
+    ``np.min``."""
+    n, t = xy.shape[0], xy.shape[1]
+    m = forecast.shape[1]
+    for i in range(n):
+        for j in range(m):
+            out[i, j] = np.inf
+        for k in range(t):
+            x = xy[i, k, 0]
+            y = xy[i, k, 1]
+            for j in range(m):
+                dx = x - forecast[k, j, 0]
+                dy = y - forecast[k, j, 1]
                 d = dx * dx + dy * dy
-                if d < best or d != d:  # NaN propagates as np.min does
-                    best = d
-                    if d != d:
-                        break
-            out[i, j] = best
+                if d < out[i, j] or d != d:
+                    out[i, j] = d
 
 
 def min_squared_distances(
@@ -304,12 +307,14 @@ def min_squared_distances(
     """``out[:, j] = min_t |xy[:, t] - forecast[t, j]|²`` for ``j`` in ``people``;
     ``xy (N, T, 2)`` m (or poses ``(N, T, 3)``: x, y are read), ``forecast (T, K, 2)`` m,
     ``out (N, K)`` m², written in place."""
+    people = np.asarray(people, dtype=np.intp)
+    block = np.empty((xy.shape[0], people.size))
     _d2min_kernel(
         np.ascontiguousarray(xy, dtype=np.float64),
-        np.ascontiguousarray(forecast, dtype=np.float64),
-        np.ascontiguousarray(people, dtype=np.intp),
-        out,
+        np.ascontiguousarray(np.asarray(forecast, dtype=np.float64)[:, people]),
+        block,
     )
+    out[:, people] = block
 
 
 @_jit
