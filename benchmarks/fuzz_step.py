@@ -2,11 +2,11 @@
 
 Run: ``.venv/bin/python benchmarks/fuzz_step.py [--calls 100000] [--seed 0]``.
 
-Every planner preset × both robots (PR2, Pioneer) is driven in sessions of ``--session`` calls
-(default 200; a fresh navigator each session, built with nobody in view or with the first
-people) on the paper suite's maps (``--maps``; default the 22 m hallway and the 27 m room). Each call starts
-from the loop's true state (the pose integrated from the previous command) and, with some
-probability each, perturbs it (seeded):
+Every planner preset × both robots (PR2, Pioneer) is driven in sessions of ``--session``
+calls (default 200; a fresh navigator each session, built with nobody in view or with the
+first people) on the paper suite's maps (``--maps``; default the 22 m hallway and the 27 m
+room). Each call starts from the loop's true state (the pose integrated from the previous
+command) and, with some probability each, perturbs it (seeded):
 
 - time: repeated, backwards, far in the future (1e12 s), NaN, inf;
 - pose: anywhere on the map, off the map, 1e6 / 1e9 m, NaN, inf, any yaw (1e6 rad);

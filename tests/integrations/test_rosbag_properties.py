@@ -11,9 +11,9 @@ from hypothesis import strategies as st
 
 pytest.importorskip("rosbags")
 
-from test_rosbag import synthetic_record  # noqa: E402
+from test_rosbag import synthetic_record
 
-from socialnav.integrations.rosbag import export_rosbag, read_rosbag_poses  # noqa: E402
+from socialnav.integrations.rosbag import export_rosbag, read_rosbag_poses
 
 
 @settings(max_examples=8, deadline=None)

@@ -54,7 +54,7 @@ def test_pioneer_drives_off_at_once_from_a_person_touching_its_rear():
     # A person overlaps the Pioneer's rear footprint by 1.5 cm; the goal is 3 m ahead in open
     # space; the person walks away (backwards, -x) after 0.8 s.
     robot = PIONEER
-    cm, occ = world(8.0, 4.0, [], robot)
+    cm, _ = world(8.0, 4.0, [], robot)
     start = (2.0, 2.0, 0.0)
     rear = start[0] - robot.polygon[:, 0].max()  # rear face (x) of the footprint
     person_x0 = rear - 0.25 + 0.015  # a 0.25 m person reaching 1.5 cm into the footprint
@@ -113,7 +113,9 @@ def test_goal_inside_a_wall_is_replaced_by_a_point_reachable_from_the_robot(robo
     cm, occ = _split_room(robot)
     goal = np.array([4.13, 2.0, 0.0])  # 2 cm inside the wall's far face (x = 4.15)
     nav = Navigator(robot, RecoveringPlanner(traditional_planner(robot)), cm, goal)
-    trace = loop(nav, robot, (1.0, 2.0, 0.0), lambda t: SocialContext(), 300, occ=(occ, cm.geometry))
+    trace = loop(
+        nav, robot, (1.0, 2.0, 0.0), lambda t: SocialContext(), 300, occ=(occ, cm.geometry)
+    )
     sub = nav.resolved_goal
     assert sub is not None and sub[0] < 3.85  # the near side, where the robot is
     assert 0.3 <= np.hypot(*(sub[:2] - goal[:2])) <= 0.9

@@ -244,7 +244,11 @@ def test_recovery_then_stuck_when_boxed_in():
     # STUCK is a status, not a latch: once the box is gone the planner drives on at once.
     open_map, _ = world(4.0, 4.0, [], PIONEER)
     ctx = context(
-        open_map, PIONEER, pose=pose, path=np.array([pose[:2], [3.5, 2.0]]), goal=(3.5, 2.0, 0.0),
+        open_map,
+        PIONEER,
+        pose=pose,
+        path=np.array([pose[:2], [3.5, 2.0]]),
+        goal=(3.5, 2.0, 0.0),
         time=8.1,
     )
     assert planner.plan(ctx).status == PlannerStatus.OK

@@ -87,7 +87,9 @@ def test_adding_a_person_to_the_proxemic_layer_changes_costs_only_near_them(
     pos = np.array([[x, y] for x, y, _ in others]).reshape(-1, 2)
     vel = np.array([[v, 0.0] for _, _, v in others]).reshape(-1, 2)
     before = proxemic_costs(geo, pos, vel, passing=passing)
-    after = proxemic_costs(geo, np.vstack([pos, [new]]), np.vstack([vel, [velocity]]), passing=passing)
+    after = proxemic_costs(
+        geo, np.vstack([pos, [new]]), np.vstack([vel, [velocity]]), passing=passing
+    )
     changed = np.argwhere(before != after)
     assert np.all(after >= before)
     if changed.size:

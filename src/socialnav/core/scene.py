@@ -145,8 +145,8 @@ class SocialContext:
     ) -> SocialContext:
         """The context of the ``people`` in view: groups and queues keep only the members in
         view (a group needs two, a queue one, or it is dropped); artworks keep their viewers
-        in view; structures keep their members in view (dropped when all are gone). Raises
-        ``InvalidInputError`` on duplicate person ids."""
+        in view; other structures keep their members in view (dropped when none is left of
+        a structure that had members). Raises ``InvalidInputError`` on duplicate person ids."""
         present = {p.id for p in people}
         kept_groups = tuple(
             Group(ids, g.mode)
@@ -163,9 +163,9 @@ class SocialContext:
             for a in artworks
         )
         kept_structures = tuple(
-            Structure(st.kind, st.params, ids)
-            for st in structures
-            if (ids := tuple(i for i in st.member_ids if i in present)) or not st.member_ids
+            Structure(x.kind, x.params, ids)
+            for x in structures
+            if (ids := tuple(i for i in x.member_ids if i in present)) or not x.member_ids
         )
         return cls(tuple(people), kept_groups, kept_queues, kept_art, kept_structures)
 

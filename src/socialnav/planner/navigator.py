@@ -36,6 +36,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import replace
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -138,7 +139,9 @@ class Navigator:
         # radius from every LETHAL/UNKNOWN cell), so the robot can actually stop there.
         free = costmap.costs < LETHAL
         room = distance_transform_edt(free) * geo.resolution if not free.all() else None
-        self._roomy = None if room is None else room >= robot.circumscribed_radius + 0.5 * geo.resolution
+        self._roomy = (
+            None if room is None else room >= robot.circumscribed_radius + 0.5 * geo.resolution
+        )
         self._clock = CycleClock()
         self.reset()
 
@@ -228,7 +231,10 @@ class Navigator:
         resolved = self._resolve(target, pose)
         if resolved is None:
             self.resolved_goal = None
-            why = f"goal unreachable: no point reachable from the robot within {self.goal_tolerance} m"
+            why = (
+                "goal unreachable: no point reachable from the robot within "
+                f"{self.goal_tolerance} m"
+            )
             return PlannerResult(np.zeros(3), PlannerStatus.NO_PATH, None, why)
         self.resolved_goal = resolved
         path = self._global_path(now, pose, resolved, social)
@@ -342,20 +348,27 @@ class Navigator:
             or abs(float(wrap_angle(target[2] - self._path_target[2]))) > 0.05
         )
         age = now - self._plan_time
+        off_plan = self._off_plan(pose)
         due = (
             changed
             or self._path is None
             or age >= self.replan_period
             or (self._waiting and age >= self.waiting_replan_period)
-            or self._off_plan(pose)
+            or off_plan
         )
         if due:
             on_map = self._on_map(social)
             costmap = self._with_people(self.costmap, on_map)
             if self.global_layer is not None:
                 costmap = self.global_layer(costmap, on_map)
-            plan = plan_path(costmap, pose[:2], target[:2], tolerance=0.5 * self.robot.circumscribed_radius)
-            if plan.status != "OK" and costmap is not self.costmap and (changed or self._path is None):
+            plan = plan_path(
+                costmap, pose[:2], target[:2], tolerance=0.5 * self.robot.circumscribed_radius
+            )
+            if (
+                plan.status != "OK"
+                and costmap is not self.costmap
+                and (changed or self._path is None)
+            ):
                 # Blocked only by people: follow the static plan; the local planner waits.
                 # (With a plan to this target already, it is kept below.)
                 static = plan_path(self.costmap, pose[:2], target[:2])
@@ -364,7 +377,7 @@ class Navigator:
             self._plan_time = now
             if plan.path is not None and plan.path.shape[0] > 0:
                 self._path = np.asarray(plan.path, dtype=float)
-            elif changed or self._path is None:
+            elif changed or self._path is None or off_plan:
                 self._path = (
                     np.stack([pose[:2], target[:2]]) if self.straight_line_fallback else None
                 )

@@ -40,6 +40,7 @@ from socialnav.core.scene import SocialContext
 from socialnav.moo.paccet import PaccetOptions
 from socialnav.moo.scalarize import L1Target, Weighted
 from socialnav.moo.selection import PaccetSelection, SelectionStrategy, WeightedSum
+from socialnav.planner.context import PlanningContext
 from socialnav.planner.critics.activity_space import ActivitySpaceCritic
 from socialnav.planner.critics.group import GroupCritic
 from socialnav.planner.critics.interpersonal import InterpersonalCritic
@@ -49,7 +50,6 @@ from socialnav.planner.local_planner import (
     LocalPlannerParams,
     traditional_objectives,
 )
-from socialnav.planner.context import PlanningContext
 from socialnav.planner.navigator import Navigator
 from socialnav.planner.objectives import Objective
 from socialnav.planner.recovery import RecoveringPlanner, RecoveryParams
@@ -270,7 +270,9 @@ class SceneObjectives:
 
     def for_scene(self, social: SocialContext) -> tuple[tuple[Objective, ...], SelectionStrategy]:
         preset = self.preset
-        pairs = preset.objectives(social, preset.social_goal and has_social_goal(social), self.params)
+        pairs = preset.objectives(
+            social, preset.social_goal and has_social_goal(social), self.params
+        )
         key = tuple(o.name for o, _ in pairs)
         if key not in self._sets:
             objectives = tuple(o for o, _ in pairs)
