@@ -17,6 +17,24 @@ app = typer.Typer(
 ROBOT_HELP = "Robot model: pr2 (holonomic) or pioneer (differential drive)."
 
 
+def _version(value: bool) -> None:
+    if value:
+        from socialnav import __version__
+
+        typer.echo(f"socialnav {__version__}")
+        raise typer.Exit()
+
+
+@app.callback()
+def main(
+    version: Annotated[
+        bool,
+        typer.Option("--version", callback=_version, is_eager=True, help="Print the version."),
+    ] = False,
+) -> None:
+    """Socially-aware navigation with PaCcET: run scenarios, compare planners, make reports."""
+
+
 def _fail(message: str) -> None:
     typer.secho(f"error: {message}", fg=typer.colors.RED, err=True)
     raise typer.Exit(code=2)

@@ -91,8 +91,10 @@ class EpisodeRecord:
 
     @property
     def num_steps(self) -> int:
+        """Number of samples ``T``."""
         return int(self.times.shape[0])
 
     @property
     def robot_xy(self) -> FloatArray:
+        """Robot positions ``(T, 2)`` (m, world frame)."""
         return self.robot_poses[:, :2]

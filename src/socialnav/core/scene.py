@@ -105,15 +105,20 @@ class SocialContext:
         index = {p.id: i for i, p in enumerate(self.people)}
         if len(index) != len(self.people):
             raise InvalidInputError("person ids must be unique")
-        for g in (*self.groups, *self.queues, *self.artworks, *self.structures):
-            ids = g.member_ids if not isinstance(g, Artwork) else g.viewer_ids
+        members: list[tuple[str, tuple[int, ...]]] = [
+            *(("Group", g.member_ids) for g in self.groups),
+            *(("Queue", q.member_ids) for q in self.queues),
+            *(("Artwork", a.viewer_ids) for a in self.artworks),
+            *((s.kind, s.member_ids) for s in self.structures),
+        ]
+        for kind, ids in members:
             missing = [i for i in ids if i not in index]
             if missing:
-                kind = g.kind if isinstance(g, Structure) else type(g).__name__
                 raise InvalidInputError(f"{kind} refers to unknown person ids {missing}")
         object.__setattr__(self, "_index", index)
 
     def person(self, person_id: int) -> Person:
+        """The person with id ``person_id`` (``KeyError`` when there is none)."""
         return self.people[self._index[person_id]]
 
     def positions(self, ids: tuple[int, ...] | None = None) -> FloatArray:
@@ -122,12 +127,15 @@ class SocialContext:
         return np.array([p.position for p in chosen], dtype=float).reshape(-1, 2)
 
     def velocities(self) -> FloatArray:
+        """``(K, 2)`` world velocities (m/s) of every person."""
         return np.array([p.velocity for p in self.people], dtype=float).reshape(-1, 2)
 
     def radii(self) -> FloatArray:
+        """``(K,)`` radii (m) of every person."""
         return np.array([p.radius for p in self.people], dtype=float)
 
     def yaws(self) -> FloatArray:
+        """``(K,)`` headings (rad, world) of every person."""
         return np.array([p.yaw for p in self.people], dtype=float)
 
     def with_people(self, people: tuple[Person, ...]) -> SocialContext:

@@ -37,7 +37,7 @@ def trajectory_table(record: EpisodeRecord) -> pa.Table:
         "robot_vx": record.robot_twists[:, 0],
         "robot_vy": record.robot_twists[:, 1],
         "robot_wz": record.robot_twists[:, 2],
-        "status": [str(s) for s in record.status],
+        "status": [str(s) for s in np.asarray(record.status)],
         "collision_person": record.collision_person,
         "collision_obstacle": record.collision_obstacle,
     }

@@ -87,13 +87,13 @@ def run_spec(
     started = time.perf_counter()
     try:
         from socialnav.experiments.planners import run_planner_episode
-        from socialnav.metrics import compute_metrics
-        from socialnav.metrics.success import evaluate_success
+        from socialnav.metrics import measure_episode
 
         result = run_planner_episode(spec)
         record = result.record
-        row.update({f"metric.{k}": float(v) for k, v in compute_metrics(record).items()})
-        row.update({f"ok.{k}": bool(v) for k, v in evaluate_success(record).items()})
+        measured = measure_episode(record)
+        row.update({f"metric.{k}": float(v) for k, v in measured.metrics.items()})
+        row.update({f"ok.{k}": bool(v) for k, v in measured.passed().items()})
         row["family"] = record.family
         row["steps"] = record.num_steps
         row["planner_ms_median"] = float(record.meta.get("planner_ms_median", np.nan))

@@ -18,6 +18,7 @@ is the behaviour's navground target (the controller is reset whenever that targe
 from __future__ import annotations
 
 import math
+from typing import SupportsFloat
 
 import numpy as np
 from navground import core
@@ -125,7 +126,7 @@ class SocialNavBehavior(ControllerBehavior, name="SocialNav"):
         self._clock += time_step
         return now, self._social()
 
-    def compute_cmd_internal(self, time_step: float) -> core.Twist2:
+    def compute_cmd_internal(self, time_step: SupportsFloat) -> core.Twist2:
         goal = self._target_pose()
         if goal is None:
             return self.cmd_twist_towards_stopping(time_step)

@@ -59,6 +59,7 @@ class Metric:
         object.__setattr__(self, "doc", doc)
 
     def __call__(self, record: EpisodeRecord) -> float:
+        """The metric's value on ``record`` (its unit; NaN when undefined)."""
         validate_record(record)
         return float(self.fn(record))
 

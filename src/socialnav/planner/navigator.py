@@ -146,6 +146,7 @@ class Navigator:
         self.reset()
 
     def reset(self) -> None:
+        """Forget the plan, latches and passed waypoints (a new episode)."""
         self.local_planner.reset()
         self._clock.reset()
         self._path: FloatArray | None = None

@@ -105,6 +105,7 @@ class PreparedReuse:
 
     @staticmethod
     def key(ctx: PlanningContext, critics: tuple[Critic, ...]) -> tuple[object, ...]:
+        """Everything the reusable entries depend on, as an exactly comparable tuple."""
         from socialnav.planner import kernels
 
         geom = ctx.costmap.geometry
@@ -124,6 +125,7 @@ class PreparedReuse:
         )
 
     def restore(self, ctx: PlanningContext, critics: tuple[Critic, ...]) -> tuple[object, ...]:
+        """Fill ``ctx.extras`` from an entry with this cycle's key (if any); returns the key."""
         key = self.key(ctx, critics)
         for k, (entry_key, data) in enumerate(self._entries):
             if entry_key == key:
@@ -134,6 +136,7 @@ class PreparedReuse:
         return key
 
     def keep(self, key: tuple[object, ...], ctx: PlanningContext) -> None:
+        """Remember this cycle's reusable ``ctx.extras`` entries under ``key``."""
         if self.size <= 0:  # reuse switched off
             return
         data = {name: ctx.extras[name] for name in _REUSABLE if name in ctx.extras}

@@ -138,9 +138,11 @@ class RecoveringPlanner:
 
     @property
     def robot(self) -> RobotModel:
+        """The wrapped planner's robot model."""
         return self.planner.robot
 
     def reset(self) -> None:
+        """Forget recoveries, the progress anchor and the STUCK latch."""
         self.planner.reset()
         self._clock.reset()
         self._phase: str | None = None
@@ -160,6 +162,7 @@ class RecoveringPlanner:
         return PlannerResult(cmd, status, record, message, self._goal)
 
     def plan(self, ctx: PlanningContext, record: bool = False) -> PlannerResult:
+        """One cycle: the wrapped planner, or a recovery step, or STUCK; never raises."""
         pose = np.asarray(ctx.pose, dtype=float)
         if pose.shape != (3,) or not np.all(np.isfinite(pose)) or not np.isfinite(ctx.time):
             return self.planner.plan(ctx, record)  # INVALID_INPUT from the planner

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import math
 from functools import partial
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, cast
 
 import numpy as np
 from navground import core
@@ -98,7 +98,7 @@ class NavgroundController:
         self._tolerance = self.tolerance_factor * float(scenario.goal_tolerance)
         self._dt = float(scenario.control_period)
         behavior = make_behavior(self.behavior_name, robot)
-        state = behavior.environment_state
+        state = cast(core.GeometricState, behavior.environment_state)
         state.line_obstacles = [
             core.LineSegment(tuple(a), tuple(b)) for a, b in static_segments(scenario)
         ]
@@ -139,7 +139,7 @@ class NavgroundController:
             self._set_target()
         positions, velocities, radii = social.positions(), social.velocities(), social.radii()
         near = np.hypot(*(positions - pose[:2]).T) <= self.sensing_range
-        b.environment_state.neighbors = [
+        cast(core.GeometricState, b.environment_state).neighbors = [
             core.Neighbor(
                 (float(p[0]), float(p[1])), float(r), (float(v[0]), float(v[1])), int(person.id)
             )

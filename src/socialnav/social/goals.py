@@ -84,10 +84,12 @@ class SocialGoal:
 
     @property
     def position(self) -> FloatArray:
+        """``(2,)`` world position (m)."""
         return self.pose[:2]
 
     @property
     def yaw(self) -> float:
+        """Goal heading (rad, world)."""
         return float(self.pose[2])
 
 

@@ -81,6 +81,7 @@ class OccupancyMap:
 
     @property
     def mode(self) -> str:
+        """The map's ``mode`` (trinary, scale or raw; ROS map_server)."""
         return str(self.meta.get("mode", "trinary"))
 
     @classmethod
@@ -153,8 +154,11 @@ MAX_MAP_CELLS = 200_000_000
 MAX_MAP_YAML_BYTES = 100_000
 
 
-def _read_pixels(image_path: Path, yaml_path: Path, mode: str) -> tuple[NDArray, NDArray]:
+def _read_pixels(
+    image_path: Path, yaml_path: Path, mode: str
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Channel average ``(H, W)`` float and alpha ``(H, W)`` (255 when the image has none)."""
+    img: Image.Image
     try:
         with Image.open(image_path) as im:
             # The header's size is checked before any pixel is decoded: a header can claim

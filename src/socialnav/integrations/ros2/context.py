@@ -63,7 +63,7 @@ def _points(value: Any, where: str, minimum: int) -> FloatArray:
 
 
 def _xy(value: Any, where: str) -> tuple[float, float]:
-    return tuple(_points(value, where, 1)[0].tolist())  # type: ignore[return-value]
+    return tuple(_points(value, where, 1)[0].tolist())
 
 
 @dataclass(frozen=True)

@@ -228,7 +228,7 @@ class SocialNavNode(LifecycleNode):  # type: ignore[misc]
             self.destroy_timer(self._timer)
             self._timer = None
         self.state = "inactive"
-        return super().on_deactivate(state)  # type: ignore[no-any-return]
+        return super().on_deactivate(state)
 
     def on_cleanup(self, state: LifecycleState) -> TransitionCallbackReturn:
         self._teardown()

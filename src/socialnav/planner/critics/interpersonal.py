@@ -148,6 +148,7 @@ class InterpersonalCritic(Critic):
             )
 
     def score(self, trajs: Trajectories, ctx: PlanningContext) -> CriticScore:
+        """Raw cost ``(N,)`` and illegal masks of the batch (see the class docstring)."""
         n = len(trajs)
         people_now = ctx.social.positions()  # (K, 2)
         k = people_now.shape[0]
