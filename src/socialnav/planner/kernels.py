@@ -34,7 +34,6 @@ try:  # numba is a core dependency; the guard keeps the reference path usable wi
 
     _AVAILABLE = True
 except ImportError:  # pragma: no cover - exercised only without numba installed
-    _numba = None
     _AVAILABLE = False
 
 _ENABLED = _AVAILABLE and os.environ.get("SOCIALNAV_KERNELS", "").strip().lower() != "reference"

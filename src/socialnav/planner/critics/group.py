@@ -117,14 +117,17 @@ class GroupCritic(Critic):
             kernels.min_squared_distances(poses, fixed, people, out)
             return out
 
-        d2_all = None
+        d2_all: FloatArray | None = None
         if self.evaluation == "max_over_time" or self.illegal_inside:
             d2_all = d2min(trajs.poses)
-        d2 = d2_all if self.evaluation == "max_over_time" else d2min(trajs.poses[:, -1:])
+        if self.evaluation == "max_over_time" and d2_all is not None:
+            d2 = d2_all
+        else:
+            d2 = d2min(trajs.poses[:, -1:])
         gd = np.sqrt(d2) - radii  # (N, G)
         cost = capped_inverse_exp(gd, self.influence_range, self.min_distance).max(axis=1)
         illegal: dict[str, np.ndarray] = {}
         if self.illegal_inside:
             assert d2_all is not None
-            illegal["ospace_intrusion"] = (d2_all < radii**2).any(axis=1)
+            illegal["ospace_intrusion"] = np.asarray((d2_all < radii**2).any(axis=1))
         return CriticScore(cost, illegal)

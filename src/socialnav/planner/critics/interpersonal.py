@@ -202,5 +202,5 @@ class InterpersonalCritic(Critic):
                 for j in np.flatnonzero(touching):
                     dj = ((xy - forecast[None, :, j]) ** 2).sum(axis=-1)  # (N, T)
                     hit[:, j] = ~np.all(np.diff(dj, axis=1) >= -1e-12, axis=1)
-            illegal["person_collision"] = hit.any(axis=1)
+            illegal["person_collision"] = np.asarray(hit.any(axis=1))
         return CriticScore(np.ascontiguousarray(cost, dtype=float), illegal)
