@@ -174,3 +174,25 @@ def test_a_person_appearing_later_gets_the_same_objectives_as_one_present_from_t
     assert a["status"][-1] == b["status"][-1] == PlannerStatus.GOAL_REACHED
     assert min(a["centre"]) == pytest.approx(min(b["centre"]), abs=1e-9)
     assert min(a["centre"]) >= 1.2  # the paper's personal space is kept
+
+
+@pytest.mark.parametrize("robot", [PR2, PIONEER])
+def test_a_person_walking_straight_at_the_robot_is_evaded(robot):
+    # The traditional planner does not forecast people; a pedestrian walks head-on at 1.5 m/s
+    # along the robot's line. The loop steps out of the way (sideways for the PR2, turn-and-go
+    # for the Pioneer) instead of meeting them.
+    cm, _ = world(12.0, 6.0, [], robot)
+
+    def scene(t: float) -> SocialContext:
+        return SocialContext((Person(1, (8.0 - 1.5 * t, 3.0), (-1.5, 0.0), np.pi),))
+
+    nav = build_navigator("traditional", robot, cm, np.array([10.0, 3.0, 0.0]), scene(0.0))
+    trace = loop(nav, robot, (2.0, 3.0, 0.0), scene, 300)
+    assert PlannerStatus.EVADING in trace["status"]
+    assert min(trace["gap"]) > 0.0
+    assert trace["status"][-1] == PlannerStatus.GOAL_REACHED
+    evading = [c for c, s in zip(trace["cmd"], trace["status"], strict=True) if s == "EVADING"]
+    if robot.holonomic:
+        assert any(abs(c[1]) > 0.1 for c in evading)  # sideways
+    else:
+        assert all(c[1] == 0.0 for c in evading) and any(abs(c[2]) > 0.1 for c in evading)

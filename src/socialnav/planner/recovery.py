@@ -66,7 +66,8 @@ class RecoveryParams:
 
     Defaults: Nav2 ``SimpleProgressChecker`` (0.25 m in 10 s), ``base_local_planner``'s escape
     (0.1 m/s), ``controller_patience`` 30 s (longer than move_base's 15 s: waiting for a person
-    to clear a corridor is normal), evasion below 1.5 s to collision.
+    to clear a corridor is normal), evasion below 3 s to collision (a person at 1.5 m/s is then
+    4.5 m away: time for a 0.3 m/s sidestep).
     """
 
     backup_speed: float = 0.1
@@ -81,8 +82,8 @@ class RecoveryParams:
     max_recoveries: int = 5
     person_blocking_distance: float = 1.0
     person_blocking_lookahead: float = 3.0
-    evasion_ttc: float = 1.5
-    evasion_horizon: float = 2.0
+    evasion_ttc: float = 3.0
+    evasion_horizon: float = 3.0
     evasion_min_person_speed: float = 0.3
 
     def __post_init__(self) -> None:
