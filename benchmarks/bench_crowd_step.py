@@ -9,9 +9,11 @@ its command integrated exactly; ``--people`` people (default 50) walk straight l
 (default 3; ``--fast 10`` is the tracker glitch of the control-loop issue). People do not react.
 Every preset builds its navigator with nobody in view (the objective set follows the scene).
 
-Printed per preset: step p50 / p95 / p99 / max over ``--steps`` cycles (default 200, the first
-5 are warm-up and not counted), and the tracemalloc peak of one warmed-up ``step`` that
-includes a global replan (the most expensive kind). The control-loop issue's floor is
+Printed per preset (and per kernel path with ``--kernels both``: the compiled kernels and the
+NumPy reference in the same run): step p50 / p95 / p99 / max and the thread's CPU-time p50 / p99
+(on a loaded machine CPU time excludes waiting for a core) over ``--steps`` cycles (default
+200, the first 5 are warm-up and not counted), and the tracemalloc peak of one warmed-up
+``step`` that includes a global replan (the most expensive kind). The control-loop issue's floor is
 p95 ≤ 50 ms and peak < 100 MB with 50 people, one at 3 m/s.
 """
 
@@ -26,6 +28,7 @@ import numpy as np
 from harness import format_seconds
 from socialnav.core.robot import PR2
 from socialnav.core.scene import Person, SocialContext
+from socialnav.planner import kernels
 from socialnav.planner.presets import PRESETS, build_navigator
 from socialnav.sim.scenario import load_scenario
 
@@ -59,7 +62,17 @@ def _context(pos, vel):
     )
 
 
-def run(preset: str, steps: int, people: int, fast: float) -> dict[str, float]:
+def run(
+    preset: str, steps: int, people: int, fast: float, compiled: bool = True
+) -> dict[str, float]:
+    previous = kernels.set_enabled(compiled) if kernels.enabled() or compiled else False
+    try:
+        return _run(preset, steps, people, fast)
+    finally:
+        kernels.set_enabled(previous)
+
+
+def _run(preset: str, steps: int, people: int, fast: float) -> dict[str, float]:
     scenario = load_scenario("group_join")
     costmap = scenario.static_costmap(PR2)
     geo = costmap.geometry
@@ -69,13 +82,14 @@ def run(preset: str, steps: int, people: int, fast: float) -> dict[str, float]:
     goal = np.array([size - 3.0, size - 3.0, 0.0])
     nav = build_navigator(preset, PR2, costmap, goal, SocialContext())
     pose, twist = np.array([3.0, 3.0, 0.0]), np.zeros(3)
-    times = []
+    times, cpu = [], []
     dt = 0.1
     for k in range(steps):
         social = _context(pos, vel)
-        start = time.perf_counter()
+        c0, start = time.thread_time(), time.perf_counter()
         result = nav.step(k * dt, pose, twist, social)
         times.append(time.perf_counter() - start)
+        cpu.append(time.thread_time() - c0)
         twist = result.cmd
         c, s = np.cos(pose[2]), np.sin(pose[2])
         pose = pose + dt * np.array(
@@ -90,7 +104,10 @@ def run(preset: str, steps: int, people: int, fast: float) -> dict[str, float]:
     _, peak = tracemalloc.get_traced_memory()
     tracemalloc.stop()
     t = np.array(times[5:])
+    c = np.array(cpu[5:])
     return {
+        "cpu_p50": float(np.percentile(c, 50)),
+        "cpu_p99": float(np.percentile(c, 99)),
         "p50": float(np.percentile(t, 50)),
         "p95": float(np.percentile(t, 95)),
         "p99": float(np.percentile(t, 99)),
@@ -105,19 +122,33 @@ def main() -> None:
     parser.add_argument("--people", type=int, default=50)
     parser.add_argument("--fast", type=float, default=3.0)
     parser.add_argument("--presets", default=",".join(PRESETS.names()))
+    parser.add_argument(
+        "--kernels",
+        choices=("compiled", "reference", "both"),
+        default="compiled",
+        help="planner kernels: compiled (numba), the NumPy reference, or both in one run",
+    )
     args = parser.parse_args()
+    modes = {"compiled": [True], "reference": [False], "both": [False, True]}[args.kernels]
     print(
         f"\n## Navigator.step, {args.people} people (one at {args.fast} m/s), "
         f"{args.steps} steps, 540 × 540 map\n"
     )
-    print("| preset | p50 | p95 | p99 | max | peak memory (replan step) |")
-    print("|---|---|---|---|---|---|")
+    print(
+        "| preset | kernels | p50 | p95 | p99 | max | CPU p50 | CPU p99 | "
+        "peak memory (replan step) |"
+    )
+    print("|---|---|---|---|---|---|---|---|---|")
     for name in args.presets.split(","):
-        r = run(name, args.steps, args.people, args.fast)
-        print(
-            f"| {name} | {format_seconds(r['p50'])} | {format_seconds(r['p95'])} | "
-            f"{format_seconds(r['p99'])} | {format_seconds(r['max'])} | {r['peak_mb']:.1f} MB |"
-        )
+        for compiled in modes:
+            r = run(name, args.steps, args.people, args.fast, compiled)
+            print(
+                f"| {name} | {'compiled' if compiled else 'numpy reference'} "
+                f"| {format_seconds(r['p50'])} | {format_seconds(r['p95'])} | "
+                f"{format_seconds(r['p99'])} | {format_seconds(r['max'])} | "
+                f"{format_seconds(r['cpu_p50'])} | {format_seconds(r['cpu_p99'])} | "
+                f"{r['peak_mb']:.1f} MB |"
+            )
 
 
 if __name__ == "__main__":

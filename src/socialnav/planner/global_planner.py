@@ -34,6 +34,7 @@ from scipy.sparse.csgraph import dijkstra
 
 from socialnav.core.errors import InvalidInputError
 from socialnav.core.geometry import as_points
+from socialnav.planner import kernels
 from socialnav.world.grid import LETHAL, UNKNOWN, Costmap, GridGeometry
 
 PlanStatus = Literal["OK", "NO_PATH", "START_BLOCKED", "GOAL_BLOCKED"]
@@ -78,6 +79,13 @@ def grid_graph(
     """
     rows, cols = costs.shape
     n = rows * cols
+    index, indptr = _grid_structure(rows, cols)
+    if kernels.enabled():  # one compiled pass, the same weights bit for bit
+        steps = np.array([resolution * float(np.hypot(dr, dc)) for dr, dc in _OFFSETS])
+        w8 = kernels.grid_weights(
+            costs, passable, np.array(_OFFSETS), steps, neutral_cost, cost_factor
+        )
+        return csr_array((w8.reshape(-1), index.reshape(-1), indptr), shape=(n, n))
     c = costs.astype(np.float64)
     pad_ok = np.pad(passable, 1, constant_values=False)
     pad_c = np.pad(c, 1)
@@ -91,7 +99,6 @@ def grid_graph(
         step = resolution * float(np.hypot(dr, dc))
         w = step * (neutral_cost + cost_factor * 0.5 * (c + pad_c[nb]))
         weights[..., k] = np.where(ok, w, np.inf)
-    index, indptr = _grid_structure(rows, cols)
     return csr_array((weights.reshape(-1), index.reshape(-1), indptr), shape=(n, n))
 
 

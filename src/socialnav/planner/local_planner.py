@@ -37,6 +37,7 @@ from socialnav.core.geometry import FloatArray, wrap_angle
 from socialnav.core.robot import RobotModel
 from socialnav.core.trajectories import Trajectories
 from socialnav.moo.selection import Selection, SelectionStrategy
+from socialnav.planner import kernels
 from socialnav.planner.context import PlanningContext
 from socialnav.planner.critics.base import CriticUnavailable
 from socialnav.planner.critics.goal_distance import GoalDistanceCritic
@@ -278,6 +279,8 @@ class LocalPlanner:
         self._oscillation = OscillationGuard(
             self.params.oscillation_reset_dist, self.params.oscillation_reset_angle
         )
+        if kernels.enabled():
+            kernels.warmup()  # compile (or load) now, never inside the first control step
         self.reset()
 
     def reset(self) -> None:

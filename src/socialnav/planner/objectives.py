@@ -74,15 +74,93 @@ def critic_keys(objectives: Sequence[Objective]) -> dict[Critic, str]:
     return keys
 
 
+# Per-cycle prepared data that depends only on the costmap, the robot, its pose, the plan, the
+# goal and the reach: reused from the previous cycle when all of those are identical.
+_REUSABLE = (
+    "occupancy_outline",
+    "occupancy_outline_rho",
+    "occupancy_codes",
+    "occupancy_clearance",
+    "occupancy_need",
+    "occupancy_sdf",
+    "footprint_cells",
+    "passable_cells",
+    "local_plan_cells",
+    "path_distance_grid",
+    "goal_distance_grid",
+    "heading_plan",
+)
+
+
+class PreparedReuse:
+    """The last ``size`` cycles' prepared map grids (BFS grids, occupancy masks, densified plan),
+    handed to a later cycle whose inputs are identical byte for byte — the critics, the
+    costmap's costs and geometry, the robot's footprint, pose, goal, plan, the planner's reach
+    and which kernel path is active — so the values are exactly those a fresh preparation would
+    give (a robot waiting in a static window pays for its grids once)."""
+
+    def __init__(self, size: int = 4) -> None:
+        self.size = size
+        self._entries: list[tuple[tuple[object, ...], dict[str, object]]] = []  # newest last
+
+    @staticmethod
+    def key(ctx: PlanningContext, critics: tuple[Critic, ...]) -> tuple[object, ...]:
+        """Everything the reusable entries depend on, as an exactly comparable tuple."""
+        from socialnav.planner import kernels
+
+        geom = ctx.costmap.geometry
+        return (
+            critics,  # frozen dataclasses: equal when their parameters are
+            ctx.costmap.costs.tobytes(),
+            tuple(geom.shape),
+            float(geom.resolution),
+            tuple(map(float, geom.origin)),
+            np.asarray(ctx.robot.polygon, dtype=float).tobytes(),
+            float(ctx.robot.inscribed_radius),
+            np.asarray(ctx.pose, dtype=float).tobytes(),
+            np.asarray(ctx.goal, dtype=float).tobytes(),
+            np.asarray(ctx.global_path, dtype=float).tobytes(),
+            ctx.extras.get("reach"),
+            kernels.enabled(),
+        )
+
+    def restore(self, ctx: PlanningContext, critics: tuple[Critic, ...]) -> tuple[object, ...]:
+        """Fill ``ctx.extras`` from an entry with this cycle's key (if any); returns the key."""
+        key = self.key(ctx, critics)
+        for k, (entry_key, data) in enumerate(self._entries):
+            if entry_key == key:
+                for name, value in data.items():
+                    ctx.extras.setdefault(name, value)
+                self._entries.append(self._entries.pop(k))
+                break
+        return key
+
+    def keep(self, key: tuple[object, ...], ctx: PlanningContext) -> None:
+        """Remember this cycle's reusable ``ctx.extras`` entries under ``key``."""
+        if self.size <= 0:  # reuse switched off
+            return
+        data = {name: ctx.extras[name] for name in _REUSABLE if name in ctx.extras}
+        self._entries = [e for e in self._entries if e[0] != key][-(self.size - 1) :]
+        self._entries.append((key, data))
+
+
+_REUSE = PreparedReuse()
+
+
 def prepare(
     objectives: Sequence[Objective], ctx: PlanningContext, timing: dict[str, float] | None = None
 ) -> None:
-    """Run every distinct critic's ``prepare`` once; propagates ``CriticUnavailable``."""
-    for critic, key in critic_keys(objectives).items():
+    """Run every distinct critic's ``prepare`` once (after restoring the previous cycle's
+    prepared grids when their inputs are identical, :class:`PreparedReuse`); propagates
+    ``CriticUnavailable``."""
+    keys = critic_keys(objectives)
+    key = _REUSE.restore(ctx, tuple(keys))
+    for critic, name in keys.items():
         start = time.perf_counter()
         critic.prepare(ctx)
         if timing is not None:
-            timing[f"prepare:{key}"] = time.perf_counter() - start
+            timing[f"prepare:{name}"] = time.perf_counter() - start
+    _REUSE.keep(key, ctx)
 
 
 def evaluate(

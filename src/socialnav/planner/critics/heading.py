@@ -29,6 +29,7 @@ import numpy as np
 
 from socialnav.core.geometry import wrap_angle
 from socialnav.core.trajectories import Trajectories
+from socialnav.planner import kernels
 from socialnav.planner.critics.base import CRITICS, Critic, CriticScore, CriticUnavailable
 from socialnav.planner.critics.path_distance import densify_path
 
@@ -83,8 +84,13 @@ class HeadingCritic(Critic):
             self.prepare(ctx)
         dense, s, tangent = ctx.extras["heading_plan"]
         end = trajs.poses[:, -1].astype(float)
-        d2 = (end[:, None, 0] - dense[None, :, 0]) ** 2 + (end[:, None, 1] - dense[None, :, 1]) ** 2
-        i = np.argmin(d2, axis=1)
+        if kernels.enabled():
+            i = kernels.nearest_vertex(end, dense)
+        else:
+            d2 = (end[:, None, 0] - dense[None, :, 0]) ** 2 + (
+                end[:, None, 1] - dense[None, :, 1]
+            ) ** 2
+            i = np.argmin(d2, axis=1)
         j = np.minimum(np.searchsorted(s, s[i] + self.heading_lookahead - 1e-9), s.size - 1)
         delta = dense[j] - end[:, :2]
         far = np.hypot(delta[:, 0], delta[:, 1]) >= 0.5 * self.heading_lookahead

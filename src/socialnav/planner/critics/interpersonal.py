@@ -40,6 +40,7 @@ import numpy as np
 from socialnav.core.errors import ConfigurationError
 from socialnav.core.geometry import FloatArray
 from socialnav.core.trajectories import Trajectories
+from socialnav.planner import kernels
 from socialnav.planner.critics.base import CRITICS, Critic, CriticScore
 
 if TYPE_CHECKING:
@@ -54,6 +55,10 @@ def capped_inverse_exp(d: FloatArray, threshold: float, min_distance: float) -> 
 def footprint_radius(ctx: PlanningContext, which: str) -> float:
     """The robot's inscribed or circumscribed radius (m)."""
     return ctx.robot.inscribed_radius if which == "inscribed" else ctx.robot.circumscribed_radius
+
+
+def _box(xy: FloatArray) -> tuple[FloatArray, FloatArray]:
+    return xy.min(axis=0), xy.max(axis=0)
 
 
 def min_squared_distances(
@@ -74,7 +79,7 @@ def min_squared_distances(
         xy = trajs.xy
         forecast = ctx.people_at(trajs.t)  # (T, K, 2)
         # Per-time box of the rollout points → a lower bound on each person's distance.
-        lo, hi = xy.min(axis=0), xy.max(axis=0)  # (T, 2)
+        lo, hi = kernels.time_box(trajs.poses) if kernels.enabled() else _box(xy)  # (T, 2)
         gap = np.maximum(lo[:, None] - forecast, 0.0) + np.maximum(forecast - hi[:, None], 0.0)
         bound = np.sqrt((gap * gap).sum(axis=-1)).min(axis=0)  # (K,)
         d2min = np.full((len(trajs), forecast.shape[1]), np.inf)
@@ -83,7 +88,10 @@ def min_squared_distances(
     _, forecast, bound, done, d2min = entry
     # A relative margin keeps the cull conservative against rounding in the bound.
     todo = ~done & (bound <= reach * (1.0 + 1e-9) + 1e-9)
-    if todo.any():
+    if todo.any() and kernels.enabled():
+        kernels.min_squared_distances(trajs.poses, forecast, np.flatnonzero(todo), d2min)
+        done |= todo
+    elif todo.any():
         xs = np.ascontiguousarray(trajs.xy[..., 0])  # (N, T)
         ys = np.ascontiguousarray(trajs.xy[..., 1])
         # One person at a time: (N, T) temporaries stay in cache, unlike one (N, T, K) array.

@@ -53,6 +53,7 @@ from scipy.ndimage import distance_transform_edt
 
 from socialnav.core.geometry import FloatArray
 from socialnav.core.trajectories import Trajectories
+from socialnav.planner import kernels
 from socialnav.planner.critics.base import CRITICS, Critic, CriticScore
 from socialnav.world.grid import INSCRIBED, LETHAL, UNKNOWN
 
@@ -104,8 +105,55 @@ class OccupancyCritic(Critic):
     def score(self, trajs: Trajectories, ctx: PlanningContext) -> CriticScore:
         """Costmap cost ``(N,)`` along each rollout; collisions illegal."""
         geom = ctx.costmap.geometry
-        costs = ctx.costmap.costs
         poses = trajs.poses[:, 1:] if trajs.poses.shape[1] > 1 else trajs.poses
+        if kernels.enabled() and poses.dtype == np.float64:
+            worst, collision, unknown = self._scan_compiled(ctx, trajs.poses)
+        else:
+            worst, collision, unknown = self._scan_reference(ctx, poses)
+        if collision.any() and _start_in_collision(ctx, trajs.poses[0, 0], self.footprint):
+            # Escape from overlap: starting in collision, a trajectory that never reduces its
+            # clearance is legal (module docstring), so the robot can always back away.
+            collision = ~_never_closer(ctx, trajs.poses, self.footprint)
+        illegal = collision | unknown
+        if self.meter_scoring:
+            worst = worst * geom.resolution
+        cost = np.where(illegal, np.inf, worst)
+        return CriticScore(cost, {"collision": collision, "unknown": unknown & ~collision})
+
+    def _scan_compiled(
+        self, ctx: PlanningContext, poses: FloatArray
+    ) -> tuple[FloatArray, NDArray[np.bool_], NDArray[np.bool_]]:
+        """:meth:`_scan_reference` as one compiled pass over all ``poses (N, T, 3)``
+        (the first skipped when T > 1; bit-identical)."""
+        geom = ctx.costmap.geometry
+        outline_data, clearance = None, None
+        if self.footprint:
+            self.prepare(ctx)
+            codes, pad = ctx.extras["occupancy_codes"]
+            outline = ctx.extras["occupancy_outline"]
+            outline_data = (outline, codes.reshape(-1), pad, codes.shape[1])
+            if self.circumscribed_cost is None:
+                clearance = (ctx.extras["occupancy_clearance"], ctx.extras["occupancy_need"])
+        return kernels.occupancy_scan(
+            poses,
+            1 if poses.shape[1] > 1 else 0,
+            ctx.costmap.costs,
+            (float(geom.origin[0]), float(geom.origin[1])),
+            geom.resolution,
+            outline_data,
+            clearance,
+            self.circumscribed_cost,
+            np.array(_outline_sizes(ctx.extras.get("occupancy_outline", _NO_OUTLINE)), np.intp),
+            _CHUNK_STEPS,
+        )
+
+    def _scan_reference(
+        self, ctx: PlanningContext, poses: FloatArray
+    ) -> tuple[FloatArray, NDArray[np.bool_], NDArray[np.bool_]]:
+        """Worst centre cost ``(N,)``, ``collision (N,)`` and ``unknown (N,)`` masks of the
+        scored ``poses (N, S, 3)`` (NumPy; the reference for the compiled kernel)."""
+        geom = ctx.costmap.geometry
+        costs = ctx.costmap.costs
         inv = 1.0 / geom.resolution
         col = np.floor((poses[..., 0] - geom.origin[0]) * inv).astype(np.intp)
         row = np.floor((poses[..., 1] - geom.origin[1]) * inv).astype(np.intp)
@@ -132,15 +180,7 @@ class OccupancyCritic(Critic):
             hit, unk = _outline_hits(ctx, poses, need)
             collision |= hit
             unknown |= unk
-        if collision.any() and _start_in_collision(ctx, trajs.poses[0, 0], self.footprint):
-            # Escape from overlap: starting in collision, a trajectory that never reduces its
-            # clearance is legal (module docstring), so the robot can always back away.
-            collision = ~_never_closer(ctx, trajs.poses, self.footprint)
-        illegal = collision | unknown
-        if self.meter_scoring:
-            worst = worst * geom.resolution
-        cost = np.where(illegal, np.inf, worst)
-        return CriticScore(cost, {"collision": collision, "unknown": unknown & ~collision})
+        return worst, collision, unknown
 
 
 # Margin (cells) on the clearance bound: covers rounding of the outline transform, in float32
@@ -149,6 +189,7 @@ _CLEARANCE_MARGIN = 0.05
 # Steps per early-exit chunk: trajectories with a LETHAL hit are dropped between chunks.
 _CHUNK_STEPS = 8
 _HIT, _UNSEEN = np.uint8(1), np.uint8(2)
+_NO_OUTLINE = np.zeros((1, 2))
 
 
 def _start_in_collision(ctx: PlanningContext, pose: FloatArray, footprint: bool) -> bool:
@@ -289,6 +330,12 @@ def _prepare_clearance(ctx: PlanningContext) -> None:
     ctx.extras["occupancy_need"] = need.astype(np.intp)
 
 
+def _outline_sizes(outline: FloatArray) -> list[int]:
+    """Poses are grouped by how many outline points they need, rounded up to K, K/2, K/4, ..."""
+    k_all = outline.shape[0]
+    return sorted({max(1, math.ceil(k_all / 2**j)) for j in range(5)})
+
+
 def _outline_hits(
     ctx: PlanningContext, poses: FloatArray, need: NDArray[np.intp]
 ) -> tuple[NDArray[np.bool_], NDArray[np.bool_]]:
@@ -300,9 +347,7 @@ def _outline_hits(
     codes, pad = ctx.extras["occupancy_codes"]
     flat_codes = codes.ravel()
     width = codes.shape[1]
-    k_all = outline.shape[0]
-    # Poses are grouped by how many points they need, rounded up to K, K/2, K/4, ...
-    sizes = sorted({max(1, math.ceil(k_all / 2**j)) for j in range(5)})
+    sizes = _outline_sizes(outline)
     sizes_arr = np.array(sizes)
     inv = 1.0 / geom.resolution
     hit = np.zeros(n, dtype=bool)

@@ -30,6 +30,7 @@ from scipy.sparse.csgraph import breadth_first_order
 
 from socialnav.core.geometry import FloatArray, points_in_polygon
 from socialnav.core.trajectories import Trajectories
+from socialnav.planner import kernels
 from socialnav.planner.critics.base import CRITICS, Critic, CriticScore, CriticUnavailable
 from socialnav.world.grid import INSCRIBED, UNKNOWN, Costmap
 
@@ -138,15 +139,26 @@ class GridGraph:
         rows, cols = passable.shape
         self.passable = passable
         self._w, self._n, self._base, self._indptr, self._ones = _grid_topology(rows, cols)
-        n = self._n
-        emit = np.zeros(n, dtype=bool)
-        self._inner(emit)[...] = passable
-        idx = np.empty(4 * n + 2 * (rows + cols) + 8, dtype=np.int32)
-        np.copyto(idx[: 4 * n], self._base.ravel())
-        # Zero the 4 slots of every non-emitting node at once: 16 bytes = one complex128, and
-        # writing 0 gives all-zero bits (a (n, 4) broadcast mask costs ~5× more).
-        np.putmask(idx[: 4 * n].view(np.complex128), ~emit, 0)
-        self._idx = idx
+        self._idx_cache: NDArray[np.int32] | None = None  # built on the reference path only
+
+    @property
+    def _idx(self) -> NDArray[np.int32]:
+        if self._idx_cache is None:
+            rows, cols = self.passable.shape
+            n = self._n
+            emit = np.zeros(n, dtype=bool)
+            self._inner(emit)[...] = self.passable
+            idx = np.empty(4 * n + 2 * (rows + cols) + 8, dtype=np.int32)
+            np.copyto(idx[: 4 * n], self._base.ravel())
+            # Zero the 4 slots of every non-emitting node at once: 16 bytes = one complex128,
+            # and writing 0 gives all-zero bits (a (n, 4) broadcast mask costs ~5× more).
+            np.putmask(idx[: 4 * n].view(np.complex128), ~emit, 0)
+            self._idx_cache = idx
+        return self._idx_cache
+
+    @_idx.setter
+    def _idx(self, value: NDArray[np.int32]) -> None:
+        self._idx_cache = value
 
     def _inner(self, flat: np.ndarray) -> np.ndarray:
         rows, cols = self.passable.shape
@@ -160,6 +172,8 @@ class GridGraph:
         see :func:`bfs_distance`."""
         passable, n, w = self.passable, self._n, self._w
         seeds = np.asarray(seeds, dtype=np.intp).reshape(-1, 2)
+        if kernels.enabled():  # one compiled flood: exact everywhere, identical in ``settle``
+            return kernels.bfs_distance(passable, seeds)
         dist = np.full(passable.shape, np.inf, dtype=np.float32)
         if seeds.shape[0] == 0:
             return dist
