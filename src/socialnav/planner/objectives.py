@@ -150,11 +150,9 @@ def evaluate(
     objectives: Sequence[Objective],
     trajs: Trajectories,
     ctx: PlanningContext,
-    extra_illegal: dict[tuple[str, str], np.ndarray] | None = None,
 ) -> Evaluation:
     """Score ``trajs`` with every objective. Calls :func:`prepare` first (critics make it
-    idempotent within a cycle). ``extra_illegal`` adds masks from outside the critics (e.g. the
-    oscillation guard), keyed ``(source, reason)``. May raise ``CriticUnavailable``."""
+    idempotent within a cycle). May raise ``CriticUnavailable``."""
     timing: dict[str, float] = {}
     prepare(objectives, ctx, timing)
     n = len(trajs)
@@ -170,9 +168,6 @@ def evaluate(
         for reason, mask in result.illegal.items():
             rejected[(key, reason)] = int(np.count_nonzero(mask))
             legal &= ~np.asarray(mask, dtype=bool)
-    for (source, reason), mask in (extra_illegal or {}).items():
-        rejected[(source, reason)] = int(np.count_nonzero(mask & legal))
-        legal &= ~mask
     # Critics promise finite costs on legal rows; a non-finite one is treated as illegal.
     F = np.zeros((n, len(objectives)))
     for j, obj in enumerate(objectives):
