@@ -18,6 +18,7 @@ from numpy.typing import ArrayLike
 
 from socialnav.core.geometry import FloatArray
 from socialnav.core.robot import RobotModel
+from socialnav.core.trajectories import Trajectories
 from socialnav.planner.rollout import RolloutParams, rollout
 
 
@@ -75,7 +76,7 @@ def evasion_gaps(
     people_velocities: FloatArray,
     people_radii: FloatArray,
     horizon: float,
-) -> tuple[FloatArray, object]:
+) -> tuple[FloatArray, Trajectories]:
     """Minimum gap (m, robot circumscribed disc to person disc) over ``horizon`` s for each of
     ``twists (N, 3)``, people at constant velocity; also the rollouts."""
     trajs = rollout(pose, np.zeros(3), twists, robot, RolloutParams(sim_time=horizon))

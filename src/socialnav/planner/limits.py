@@ -72,6 +72,7 @@ class CycleClock:
         self.reset()
 
     def reset(self) -> None:
+        """Start again at elapsed time 0 with no previous timestamp."""
         self.now = 0.0
         self._last: float | None = None
 

@@ -238,9 +238,13 @@ class ObjectiveSet(Protocol):
     artworks, social goal): ``resolve(ctx) -> (objectives, selection)``; the same instances
     are returned while the set is unchanged, so critic and selection state persists."""
 
-    def resolve(self, ctx: PlanningContext) -> tuple[Sequence[Objective], SelectionStrategy]: ...
+    def resolve(self, ctx: PlanningContext) -> tuple[Sequence[Objective], SelectionStrategy]:
+        """The objectives and selection strategy for this cycle's scene (``ctx.social``)."""
+        ...
 
-    def reset(self) -> None: ...
+    def reset(self) -> None:
+        """Reset the state of every critic of every objective set kept so far."""
+        ...
 
 
 @dataclass

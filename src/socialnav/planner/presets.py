@@ -275,6 +275,8 @@ class SceneObjectives:
         self._sets: dict[tuple[str, ...], tuple[tuple[Objective, ...], SelectionStrategy]] = {}
 
     def for_scene(self, social: SocialContext) -> tuple[tuple[Objective, ...], SelectionStrategy]:
+        """The (objectives, selection) of the preset for the people and structures in
+        ``social``, the same instances each time the set of objective names repeats."""
         preset = self.preset
         pairs = preset.objectives(
             social, preset.social_goal and has_social_goal(social), self.params
@@ -286,9 +288,11 @@ class SceneObjectives:
         return self._sets[key]
 
     def resolve(self, ctx: PlanningContext) -> tuple[tuple[Objective, ...], SelectionStrategy]:
+        """:meth:`for_scene` of the cycle's ``ctx.social`` (the people in view)."""
         return self.for_scene(ctx.social)
 
     def reset(self) -> None:
+        """Reset the state of every critic of every objective set kept so far."""
         for objectives, _ in self._sets.values():
             for obj in objectives:
                 for critic, _ in obj.terms:

@@ -46,6 +46,7 @@ import numpy as np
 from socialnav.core.errors import ConfigurationError
 from socialnav.core.geometry import FloatArray, wrap_angle
 from socialnav.core.robot import RobotModel
+from socialnav.core.trajectories import Trajectories
 from socialnav.planner.context import PlanningContext
 from socialnav.planner.critics.occupancy import OccupancyCritic
 from socialnav.planner.evasion import evasion_gaps, evasion_twists, time_to_collision
@@ -280,9 +281,9 @@ class RecoveringPlanner:
         why = f"evading person {people[who].id} (time to collision {float(ttc.min()):.2f} s)"
         return self._out(twists[k].copy(), PlannerStatus.EVADING, result.record, why)
 
-    def _static_ok(self, ctx: PlanningContext, trajs: object) -> np.ndarray:
+    def _static_ok(self, ctx: PlanningContext, trajs: Trajectories) -> np.ndarray:
         """Legal against the local costmap (people discs included: moving away is allowed)."""
-        score = self._occupancy.score(trajs, ctx)  # type: ignore[arg-type]
+        score = self._occupancy.score(trajs, ctx)
         return np.isfinite(score.cost)
 
     # ---- recoveries -----------------------------------------------------------------------
