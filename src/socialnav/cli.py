@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
-from typing import Annotated
+from typing import Annotated, Any
 
 import typer
 
@@ -46,7 +46,9 @@ def _split(value: str) -> list[str]:
 
 @app.command()
 def run(
-    scenario: Annotated[str, typer.Argument(help="Built-in scenario name or path to a YAML file.")],
+    scenario: Annotated[
+        str | None, typer.Argument(help="Built-in scenario name or path to a YAML file.")
+    ] = None,
     planner: Annotated[str, typer.Option(help="Planner name (see `socialnav list`).")] = "paccet",
     robot: Annotated[str, typer.Option(help=ROBOT_HELP)] = "pr2",
     seed: Annotated[int, typer.Option(help="Seed for the scenario's jitter.")] = 0,
@@ -58,11 +60,29 @@ def run(
         "parquet"
     ),
     video: Annotated[str, typer.Option(help="none, gif or mp4 (candidate fan by score).")] = "none",
+    crowd: Annotated[
+        Path | None, typer.Option(help="A recorded crowd (obsmat, frame-id-x-y, ndjson).")
+    ] = None,
+    t0: Annotated[float, typer.Option(help="--crowd: start time in the recording (s).")] = 0.0,
+    start: Annotated[
+        tuple[float, float] | None, typer.Option(help="--crowd: robot start X Y (m).")
+    ] = None,
+    goal: Annotated[tuple[float, float] | None, typer.Option(help="--crowd: goal X Y (m).")] = None,
+    switch_distance: Annotated[
+        float | None, typer.Option(help="--crowd: people this close (m) switch to navground HL.")
+    ] = None,
 ) -> None:
-    """Run one scenario with one planner; write trajectories, diagnostics, metrics and a figure."""
+    """Run one scenario (or a recorded crowd) with one planner; write trajectories, metrics and
+    a figure."""
     from socialnav.core.errors import ConfigurationError
     from socialnav.experiments.run import run_single
 
+    if crowd is not None:
+        _run_crowd(crowd, t0, start, goal, planner, robot, out, switch_distance)
+        return
+    if scenario is None:
+        _fail("give a scenario, or --crowd FILE --t0 T --start X Y --goal X Y")
+        return
     try:
         summary = run_single(
             scenario, planner, robot, seed=seed, humans=humans, out=out, fmt=fmt, video=video
@@ -73,43 +93,76 @@ def run(
     typer.echo(json.dumps(summary, indent=1))
 
 
-@app.command()
-def compare(
-    out: Annotated[Path, typer.Option(help="Report folder.")] = Path("report"),
-    suite: Annotated[str, typer.Option(help="paper, reactive or randomized.")] = "paper",
-    planners: Annotated[str, typer.Option(help="Comma-separated planner names; default all.")] = "",
-    robots: Annotated[str, typer.Option(help="Comma-separated robot models.")] = "pr2,pioneer",
-    scenarios: Annotated[str, typer.Option(help="Comma-separated scenarios; default all.")] = "",
-    seeds: Annotated[int | None, typer.Option(help="Seeds per scenario (randomized: 20).")] = None,
-    jobs: Annotated[int, typer.Option(help="Parallel workers; -1 = all cores.")] = -1,
-    resume: Annotated[bool, typer.Option(help="Skip runs already in the report folder.")] = True,
+def _run_crowd(
+    data: Path,
+    t0: float,
+    start: tuple[float, float] | None,
+    goal: tuple[float, float] | None,
+    planner: str,
+    robot: str,
+    out: Path,
+    switch_distance: float | None,
 ) -> None:
-    """The main job: every scenario × planner × robot, into a Markdown/HTML report with figures."""
-    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TimeElapsedColumn
-
     from socialnav.core.errors import ConfigurationError
-    from socialnav.experiments.planners import CONTROLLERS, compared_planners
-    from socialnav.experiments.run import check_robot
-    from socialnav.experiments.suite import run_suite, suite_specs
-    from socialnav.report.build import build_report
-    from socialnav.sim.scenario import builtin_scenarios, load_scenario
+    from socialnav.experiments.crowd import run_crowd_single
 
-    if suite not in ("paper", "reactive", "randomized"):
-        _fail(f"unknown suite {suite!r}; use paper, reactive or randomized")
+    if start is None or goal is None:
+        _fail("--crowd needs --start X Y and --goal X Y")
+        return
     try:
-        planner_names = _split(planners) or compared_planners()
-        for name in planner_names:
-            CONTROLLERS.get(name)
-        for name in _split(robots):
-            check_robot(name)
-        for name in _split(scenarios):
-            load_scenario(name)  # an unknown name fails here, not as one error row per run
-        specs = suite_specs(
-            suite, _split(scenarios) or builtin_scenarios(), planner_names, _split(robots), seeds
+        summary = run_crowd_single(
+            data, t0, start, goal, planner, robot, out=out, switch_distance=switch_distance
         )
     except ConfigurationError as exc:
         _fail(str(exc))
         return
+    typer.echo(json.dumps(summary, indent=1))
+
+
+def _compare_crowds(
+    data: list[Path],
+    planners: list[str],
+    robots: list[str],
+    seeds: str,
+    out: Path,
+    jobs: int,
+    resume: bool,
+    switch_distance: float | None,
+) -> None:
+    """``compare --suite crowds``: every --data file × planners (+ straight_line) × robots."""
+    from socialnav.core.errors import ConfigurationError
+    from socialnav.crowds import load_recording
+    from socialnav.experiments.crowd import REPORT_SEEDS, crowd_specs, parse_seeds
+    from socialnav.report.crowd import build_crowd_report
+
+    if not data:
+        _fail("--suite crowds needs --data FILE (a recorded crowd; repeat for several)")
+    try:
+        for path in data:
+            load_recording(path)  # a bad file fails here, not as one error row per run
+        specs = crowd_specs(
+            [str(p) for p in data],
+            planners,
+            robots,
+            parse_seeds(seeds or REPORT_SEEDS),
+            switch_distance,
+        )
+    except ConfigurationError as exc:
+        _fail(str(exc))
+        return
+    rows = _run_with_progress(specs, out, jobs, resume, "crowds")
+    report = build_crowd_report(rows, out)
+    failed = sum(1 for r in rows if r.get("error"))
+    typer.echo(f"{len(rows)} runs ({failed} errors) → {report}")
+
+
+def _run_with_progress(
+    specs: list[Any], out: Path, jobs: int, resume: bool, suite: str
+) -> list[dict[str, Any]]:
+    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TimeElapsedColumn
+
+    from socialnav.experiments.suite import run_suite
+
     with Progress(
         "[progress.description]{task.description}",
         BarColumn(),
@@ -121,7 +174,72 @@ def compare(
         def advance(done: int, total: int) -> None:
             bar.update(task, completed=done, total=total)
 
-        rows = run_suite(specs, out, n_jobs=jobs, resume=resume, progress=advance)
+        return run_suite(specs, out, n_jobs=jobs, resume=resume, progress=advance)
+
+
+@app.command()
+def compare(
+    out: Annotated[Path, typer.Option(help="Report folder.")] = Path("report"),
+    suite: Annotated[str, typer.Option(help="paper, reactive, randomized or crowds.")] = "paper",
+    planners: Annotated[str, typer.Option(help="Comma-separated planner names; default all.")] = "",
+    robots: Annotated[str, typer.Option(help="Comma-separated robot models.")] = "pr2,pioneer",
+    scenarios: Annotated[str, typer.Option(help="Comma-separated scenarios; default all.")] = "",
+    seeds: Annotated[
+        str | None,
+        typer.Option(help="Seeds A:B, or N for 0:N (randomized: 20; crowds: 10000:10050 reports)."),
+    ] = None,
+    jobs: Annotated[int, typer.Option(help="Parallel workers; -1 = all cores.")] = -1,
+    resume: Annotated[bool, typer.Option(help="Skip runs already in the report folder.")] = True,
+    data: Annotated[
+        list[Path] | None, typer.Option(help="--suite crowds: a recorded crowd file (repeat).")
+    ] = None,
+    switch_distance: Annotated[
+        float | None,
+        typer.Option(help="--suite crowds: replayed people this close (m) switch to HL."),
+    ] = None,
+) -> None:
+    """The main job: every scenario × planner × robot, into a Markdown/HTML report with figures."""
+    from socialnav.core.errors import ConfigurationError
+    from socialnav.experiments.crowd import parse_seeds
+    from socialnav.experiments.planners import CONTROLLERS, compared_planners
+    from socialnav.experiments.run import check_robot
+    from socialnav.experiments.suite import suite_specs
+    from socialnav.report.build import build_report
+    from socialnav.sim.scenario import builtin_scenarios, load_scenario
+
+    if suite not in ("paper", "reactive", "randomized", "crowds"):
+        _fail(f"unknown suite {suite!r}; use paper, reactive, randomized or crowds")
+    try:
+        planner_names = _split(planners) or compared_planners()
+        for name in planner_names:
+            CONTROLLERS.get(name)
+        for name in _split(robots):
+            check_robot(name)
+        if suite == "crowds":
+            _compare_crowds(
+                data or [],
+                planner_names,
+                _split(robots),
+                seeds or "",
+                out,
+                jobs,
+                resume,
+                switch_distance,
+            )
+            return
+        for name in _split(scenarios):
+            load_scenario(name)  # an unknown name fails here, not as one error row per run
+        specs = suite_specs(
+            suite,
+            _split(scenarios) or builtin_scenarios(),
+            planner_names,
+            _split(robots),
+            None if seeds is None else parse_seeds(seeds),
+        )
+    except ConfigurationError as exc:
+        _fail(str(exc))
+        return
+    rows = _run_with_progress(specs, out, jobs, resume, suite)
     report = build_report(rows, out, suite=suite)
     failed = sum(1 for r in rows if r.get("error"))
     typer.echo(f"{len(rows)} runs ({failed} errors) → {report}")

@@ -23,6 +23,10 @@ class EpisodeRecord:
     People:
       ``people_ids (K,)``, ``people_positions (T, K, 2)``, ``people_velocities (T, K, 2)``,
       ``people_radii (K,)``; ``context`` holds groups, queues and artworks at the start.
+      People present for part of an episode (replayed crowds): their positions and velocities
+      are NaN at the samples where they are absent; ``people_present (T, K)`` bool is that
+      mask (derived from the positions, so it can never disagree with them). Metrics and
+      figures ignore absent samples (a distance to an absent person is ``+inf``).
     Task:
       ``start (3,)``; ``goal (3,)`` the goal the robot was given; ``target (3,)`` the pose at
       which success is measured (the target the controller recorded driving to: the social
@@ -93,6 +97,11 @@ class EpisodeRecord:
     def num_steps(self) -> int:
         """Number of samples ``T``."""
         return int(self.times.shape[0])
+
+    @property
+    def people_present(self) -> np.ndarray:
+        """``(T, K)`` bool: where each person is present (their position is finite)."""
+        return np.asarray(np.isfinite(self.people_positions).all(axis=-1), dtype=bool)
 
     @property
     def robot_xy(self) -> FloatArray:

@@ -185,3 +185,15 @@ register_family(
     ),
 )
 register_family("custom", "no family-specific conditions", COMMON)
+# Replayed recorded crowds (socialnav.metrics.crowd): people never yield, so success asks for no
+# *active* contact; passive contacts (someone walked into the robot) are reported, not required.
+register_family(
+    "crowd",
+    "a task among replayed recorded pedestrians (SocNavBench / Francis et al. conventions)",
+    (
+        ConditionSpec("reached_goal"),
+        ConditionSpec("no_obstacle_collision"),
+        ConditionSpec("no_active_collision"),
+        ConditionSpec("no_passive_contact", required=False),
+    ),
+)

@@ -18,6 +18,8 @@ import numpy as np
 import pyarrow as pa
 import pyarrow.parquet as pq
 
+from socialnav.experiments.crowd import CrowdSpec
+
 RESULTS_FILE = "results.parquet"
 TABLE1_SCENARIO = "hallway_passing"
 TABLE1_SEEDS = (0, 1, 2, 3, 4)
@@ -47,22 +49,25 @@ def suite_specs(
     scenarios: Sequence[str],
     planners: Sequence[str],
     robots: Sequence[str],
-    seeds: int | None = None,
+    seeds: int | range | None = None,
 ) -> list[EpisodeSpec]:
     """The episodes of a named suite.
 
     - ``paper``: every scenario once (seed 0) and ``hallway_passing`` with seeds 0–4 (Table 1).
     - ``reactive``: the same runs with people driven by navground ``HL`` who react to the robot.
     - ``randomized``: seeded jitter of positions, speeds and group sizes; ``seeds`` (20) each.
+
+    ``seeds``: a count N (seeds ``0 … N-1``) or a ``range`` (``--seeds A:B``).
     """
     specs: list[EpisodeSpec] = []
+    chosen = range(seeds) if isinstance(seeds, int) else seeds
     for scenario in scenarios:
         if suite == "randomized":
-            run_seeds: Iterable[int] = range(seeds or 20)
+            run_seeds: Iterable[int] = chosen or range(20)
         elif Path(scenario).stem == TABLE1_SCENARIO:
-            run_seeds = TABLE1_SEEDS if seeds is None else range(seeds)
+            run_seeds = TABLE1_SEEDS if chosen is None else chosen
         else:
-            run_seeds = range(seeds or 1)
+            run_seeds = chosen or range(1)
         for planner in planners:
             for robot in robots:
                 for seed in run_seeds:
@@ -80,9 +85,13 @@ def suite_specs(
 
 
 def run_spec(
-    spec: EpisodeSpec, out_dir: Path | None = None, figure: bool = False
+    spec: EpisodeSpec | CrowdSpec, out_dir: Path | None = None, figure: bool = False
 ) -> dict[str, Any]:
     """Run one episode; return its result row (metrics, success conditions, timing, error)."""
+    if isinstance(spec, CrowdSpec):  # the crowd suite (socialnav.experiments.crowd)
+        from socialnav.experiments.crowd import run_crowd_spec
+
+        return run_crowd_spec(spec, out_dir, figure)
     row: dict[str, Any] = {**asdict(spec), "run_id": spec.run_id, "error": ""}
     started = time.perf_counter()
     try:
@@ -125,7 +134,7 @@ def _done_ids(out_dir: Path) -> set[str]:
 
 
 def run_suite(
-    specs: Sequence[EpisodeSpec],
+    specs: Sequence[EpisodeSpec | CrowdSpec],
     out_dir: Path,
     n_jobs: int = -1,
     figures: bool = False,

@@ -6,7 +6,14 @@ scenario suite's success conditions; ``measure_episode(record)`` does both, the 
 command measures through. Never imports ``sim`` or ``planner``.
 """
 
-from socialnav.metrics import motion, proxemics, scenario, table1, task  # noqa: F401 (register)
+from socialnav.metrics import (  # noqa: F401 (register)
+    crowd,
+    motion,
+    proxemics,
+    scenario,
+    table1,
+    task,
+)
 from socialnav.metrics.base import METRICS, Metric, compute_metrics, metric, validate_record
 from socialnav.metrics.measure import EpisodeMeasurement, measure_episode
 from socialnav.metrics.success import Condition, evaluate_success, success_conditions

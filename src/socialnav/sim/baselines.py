@@ -6,6 +6,9 @@
   the people within navground's sensing range. These are the peers a navground user would pick.
 - ``go_to_goal``: :class:`GoToGoalController`, a proportional law straight at the goal that
   ignores everyone — a lower bound and the test controller of the simulator.
+- ``straight_line``: the crowd suite's reference (SocNavBench's "how crowded is this
+  episode"): the start→goal line at full speed, no planner, ignoring everyone, stopping at the
+  goal (:class:`GoToGoalController` with an unbounded gain).
 """
 
 from __future__ import annotations
@@ -233,5 +236,15 @@ if "go_to_goal" not in CONTROLLERS:
         GoToGoalController,
         "proportional control straight at the goal, ignoring people (a lower bound)",
         order=900,
+        compared=False,
+    )
+#: gain (1/s) so large that the speed saturates at the robot's limit until the goal
+STRAIGHT_LINE_GAIN = 1.0e6
+if "straight_line" not in CONTROLLERS:
+    register_controller(
+        "straight_line",
+        partial(GoToGoalController, gain=STRAIGHT_LINE_GAIN),
+        "the start-goal line at full speed, ignoring people (the crowd suite's reference)",
+        order=950,
         compared=False,
     )
