@@ -104,7 +104,7 @@ def objectives(footprint: bool) -> tuple[Objective, ...]:
 
 def fresh_ctx(reach: float) -> PlanningContext:
     ctx = PlanningContext(POSE, VEL, np.array([*PATH[-1], 0.0]), PATH, COSTMAP, ROBOT)
-    ctx.extras["reach"] = reach
+    ctx.cache.reach = reach
     return ctx
 
 
@@ -130,7 +130,7 @@ def python_loop(twists: np.ndarray, params: RolloutParams, reach: float):
     ctx = fresh_ctx(reach)
     objs = objectives(True)
     evaluate(objs, rollout(POSE, VEL, twists[:1], ROBOT, params), ctx)  # fills the BFS grids
-    pgrid, ggrid = ctx.extras["path_distance_grid"], ctx.extras["goal_distance_grid"]
+    pgrid, ggrid = ctx.cache.path_distance_grid, ctx.cache.goal_distance_grid
     costs = COSTMAP.costs.tolist()  # nested lists: the fastest plain-Python cell lookup
     ox, oy = COSTMAP.geometry.origin
     res = COSTMAP.resolution
@@ -140,7 +140,8 @@ def python_loop(twists: np.ndarray, params: RolloutParams, reach: float):
     )
     steps = max(steps, 1)
     dt = params.sim_time / steps
-    dense, _, tangent = ctx.extras["heading_plan"]
+    plan = ctx.cache.heading_plan
+    dense, tangent = plan.dense, plan.tangent
     dense_l = [tuple(p) for p in dense]
 
     def cell(x, y):

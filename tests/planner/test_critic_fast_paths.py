@@ -122,7 +122,7 @@ def test_occupancy_fast_path_matches_the_full_outline_at_every_pose(seed):
     ):
         ctx = _ctx(costmap, robot, pose)
         if reach is not None:
-            ctx.extras["reach"] = reach  # the clearance is then computed only near the robot
+            ctx.cache.reach = reach  # the clearance is then computed only near the robot
         got = critic.score(trajs, ctx)
         np.testing.assert_array_equal(got.cost, cost)
         np.testing.assert_array_equal(got.illegal["collision"], collision)

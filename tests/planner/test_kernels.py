@@ -136,7 +136,7 @@ def test_critics_bit_identical(
     for flag in (False, True):
         with compiled(flag):
             ctx = context(robot, costmap, pose, vel, goal, path, social, predict)
-            ctx.extras["reach"] = 3.0
+            ctx.cache.reach = 3.0
             trajs = rollout(pose, vel, twists, robot, params)
             scores = []
             for c in critics:
@@ -229,7 +229,7 @@ def test_warmup_compiles_ahead() -> None:
 def test_bfs_grid_identical(seed: int, density: float, n_seeds: int, settle: bool) -> None:
     """Identical step counts inside the settle region; outside it the reference is exact or
     inf, and the compiled flood (exact everywhere) agrees wherever the reference is finite."""
-    from socialnav.planner.critics.path_distance import bfs_distance
+    from socialnav.planner.critics.map_grid import bfs_distance
 
     rng = np.random.default_rng(seed)
     shape = tuple(rng.integers(5, 60, 2))

@@ -79,7 +79,7 @@ def test_identical_inputs_reuse_the_grids() -> None:
     planner.plan(first)
     second = _ctx(Costmap(costmap.costs.copy(), costmap.geometry), pose.copy())
     planner.plan(second)
-    assert second.extras["path_distance_grid"] is first.extras["path_distance_grid"]
+    assert second.cache.path_distance_grid is first.cache.path_distance_grid
     third = _ctx(costmap, pose + np.array([0.01, 0.0, 0.0]))
     planner.plan(third)
-    assert third.extras["path_distance_grid"] is not first.extras["path_distance_grid"]
+    assert third.cache.path_distance_grid is not first.cache.path_distance_grid

@@ -475,7 +475,7 @@ def _bfs_kernel(passable, seeds, dist):  # type: ignore[no-untyped-def]
 
 def bfs_distance(passable: NDArray[np.bool_], seeds: NDArray[np.intp]) -> NDArray[np.float32]:
     """4-connected BFS step counts ``(rows, cols)`` float32 from in-grid ``seeds (K, 2)``
-    (row, col), exact everywhere: :func:`socialnav.planner.critics.path_distance.bfs_distance`
+    (row, col), exact everywhere: :func:`socialnav.planner.critics.map_grid.bfs_distance`
     semantics (seeds 0 whatever their cost, blocked cells never expand and read ``inf``)."""
     dist = np.full(passable.shape, np.inf, dtype=np.float32)
     seeds = np.ascontiguousarray(seeds, dtype=np.int64).reshape(-1, 2)

@@ -382,7 +382,8 @@ class LocalPlanner:
         w = min(w, float(np.sqrt(2.0 * r.acc_lim_theta * abs(err))))
         cmd = np.array([0.0, 0.0, np.copysign(w, err)])
         twists = cmd[None]
-        ctx.extras.setdefault("reach", 2.0 * ctx.costmap.resolution)
+        if ctx.cache.reach is None:
+            ctx.cache.reach = 2.0 * ctx.costmap.resolution
         trajs = rollout(ctx.pose, ctx.velocity, twists, r, p)
         try:
             ev = evaluate(self.objectives, trajs, ctx)
@@ -406,7 +407,8 @@ class LocalPlanner:
         if twists.shape[0] == 0:
             return PlannerStatus.NO_LEGAL_TRAJECTORY, _zero(), "no velocity samples", None
         reach = float(np.hypot(twists[:, 0], twists[:, 1]).max()) * p.sim_time
-        ctx.extras.setdefault("reach", reach + 2.0 * ctx.costmap.resolution)
+        if ctx.cache.reach is None:
+            ctx.cache.reach = reach + 2.0 * ctx.costmap.resolution
         trajs = rollout(
             ctx.pose, ctx.velocity, twists, self.robot, p, dtype=np.dtype(p.rollout_dtype).type
         )

@@ -20,6 +20,7 @@ import numpy as np
 from socialnav.core.errors import ConfigurationError
 from socialnav.core.geometry import FloatArray
 from socialnav.core.trajectories import Trajectories
+from socialnav.planner.cache import CycleCache
 from socialnav.planner.context import PlanningContext
 from socialnav.planner.critics.base import Critic
 
@@ -74,24 +75,6 @@ def critic_keys(objectives: Sequence[Objective]) -> dict[Critic, str]:
     return keys
 
 
-# Per-cycle prepared data that depends only on the costmap, the robot, its pose, the plan, the
-# goal and the reach: reused from the previous cycle when all of those are identical.
-_REUSABLE = (
-    "occupancy_outline",
-    "occupancy_outline_rho",
-    "occupancy_codes",
-    "occupancy_clearance",
-    "occupancy_need",
-    "occupancy_sdf",
-    "footprint_cells",
-    "passable_cells",
-    "local_plan_cells",
-    "path_distance_grid",
-    "goal_distance_grid",
-    "heading_plan",
-)
-
-
 class PreparedReuse:
     """The last ``size`` cycles' prepared map grids (BFS grids, occupancy masks, densified plan),
     handed to a later cycle whose inputs are identical byte for byte — the critics, the
@@ -101,7 +84,7 @@ class PreparedReuse:
 
     def __init__(self, size: int = 4) -> None:
         self.size = size
-        self._entries: list[tuple[tuple[object, ...], dict[str, object]]] = []  # newest last
+        self._entries: list[tuple[tuple[object, ...], CycleCache]] = []  # newest last
 
     @staticmethod
     def key(ctx: PlanningContext, critics: tuple[Critic, ...]) -> tuple[object, ...]:
@@ -120,26 +103,26 @@ class PreparedReuse:
             np.asarray(ctx.pose, dtype=float).tobytes(),
             np.asarray(ctx.goal, dtype=float).tobytes(),
             np.asarray(ctx.global_path, dtype=float).tobytes(),
-            ctx.extras.get("reach"),
+            ctx.cache.reach,
             kernels.enabled(),
         )
 
     def restore(self, ctx: PlanningContext, critics: tuple[Critic, ...]) -> tuple[object, ...]:
-        """Fill ``ctx.extras`` from an entry with this cycle's key (if any); returns the key."""
+        """Fill ``ctx.cache`` from an entry with this cycle's key (if any); returns the key."""
         key = self.key(ctx, critics)
         for k, (entry_key, data) in enumerate(self._entries):
             if entry_key == key:
-                for name, value in data.items():
-                    ctx.extras.setdefault(name, value)
+                ctx.cache.fill(data)
                 self._entries.append(self._entries.pop(k))
                 break
         return key
 
     def keep(self, key: tuple[object, ...], ctx: PlanningContext) -> None:
-        """Remember this cycle's reusable ``ctx.extras`` entries under ``key``."""
+        """Remember this cycle's reusable ``ctx.cache`` fields
+        (:data:`~socialnav.planner.cache.REUSABLE`) under ``key``."""
         if self.size <= 0:  # reuse switched off
             return
-        data = {name: ctx.extras[name] for name in _REUSABLE if name in ctx.extras}
+        data = ctx.cache.reusable()
         self._entries = [e for e in self._entries if e[0] != key][-(self.size - 1) :]
         self._entries.append((key, data))
 
@@ -167,11 +150,9 @@ def evaluate(
     objectives: Sequence[Objective],
     trajs: Trajectories,
     ctx: PlanningContext,
-    extra_illegal: dict[tuple[str, str], np.ndarray] | None = None,
 ) -> Evaluation:
     """Score ``trajs`` with every objective. Calls :func:`prepare` first (critics make it
-    idempotent within a cycle). ``extra_illegal`` adds masks from outside the critics (e.g. the
-    oscillation guard), keyed ``(source, reason)``. May raise ``CriticUnavailable``."""
+    idempotent within a cycle). May raise ``CriticUnavailable``."""
     timing: dict[str, float] = {}
     prepare(objectives, ctx, timing)
     n = len(trajs)
@@ -187,9 +168,6 @@ def evaluate(
         for reason, mask in result.illegal.items():
             rejected[(key, reason)] = int(np.count_nonzero(mask))
             legal &= ~np.asarray(mask, dtype=bool)
-    for (source, reason), mask in (extra_illegal or {}).items():
-        rejected[(source, reason)] = int(np.count_nonzero(mask & legal))
-        legal &= ~mask
     # Critics promise finite costs on legal rows; a non-finite one is treated as illegal.
     F = np.zeros((n, len(objectives)))
     for j, obj in enumerate(objectives):

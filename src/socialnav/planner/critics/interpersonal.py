@@ -26,7 +26,7 @@ Deviations and choices:
 - Speed, not behaviour: the per-time distances enter only through their minimum over time
   (``f`` is non-increasing; a collision at some time is ``min d² < r²``), so the ``(N, K)``
   minimum is computed once per cycle and shared by every interpersonal critic (the paper's
-  ``ID_f1 … ID_fn`` slots) via ``ctx.extras``; people who provably stay beyond every distance
+  ``ID_f1 … ID_fn`` slots) via ``ctx.cache``; people who provably stay beyond every distance
   that matters are culled first (:func:`min_squared_distances`).
 """
 
@@ -41,6 +41,7 @@ from socialnav.core.errors import ConfigurationError
 from socialnav.core.geometry import FloatArray
 from socialnav.core.trajectories import Trajectories
 from socialnav.planner import kernels
+from socialnav.planner.cache import PeopleDistances
 from socialnav.planner.critics.base import CRITICS, Critic, CriticScore
 
 if TYPE_CHECKING:
@@ -70,12 +71,12 @@ def min_squared_distances(
     Exact wherever the distance can be ``<= reach[k]`` (m, per person); a person who provably
     stays farther than ``reach[k]`` from every rollout point at every time gets ``inf`` (culled:
     the bound is the distance from the person to the box of all trajectory points at that
-    time). Shared through ``ctx.extras`` within a cycle: computed once per (trajectory batch,
-    forecast) — the cache keeps the batch itself and compares by identity — and extended when a
-    later caller's ``reach`` needs more people.
+    time). Shared through ``ctx.cache.people_distances`` within a cycle: computed once per
+    (trajectory batch, forecast) — the cache keeps the batch itself and compares by identity —
+    and extended when a later caller's ``reach`` needs more people.
     """
-    entry = ctx.extras.get("interpersonal_d2min")
-    if entry is None or entry[0] is not trajs:
+    entry = ctx.cache.people_distances
+    if entry is None or entry.trajs is not trajs:
         xy = trajs.xy
         forecast = ctx.people_at(trajs.t)  # (T, K, 2)
         # Per-time box of the rollout points → a lower bound on each person's distance.
@@ -83,9 +84,11 @@ def min_squared_distances(
         gap = np.maximum(lo[:, None] - forecast, 0.0) + np.maximum(forecast - hi[:, None], 0.0)
         bound = np.sqrt((gap * gap).sum(axis=-1)).min(axis=0)  # (K,)
         d2min = np.full((len(trajs), forecast.shape[1]), np.inf)
-        entry = (trajs, forecast, bound, np.zeros(forecast.shape[1], dtype=bool), d2min)
-        ctx.extras["interpersonal_d2min"] = entry
-    _, forecast, bound, done, d2min = entry
+        entry = PeopleDistances(
+            trajs, forecast, bound, np.zeros(forecast.shape[1], dtype=bool), d2min
+        )
+        ctx.cache.people_distances = entry
+    forecast, bound, done, d2min = entry.forecast, entry.bound, entry.done, entry.d2min
     # A relative margin keeps the cull conservative against rounding in the bound.
     todo = ~done & (bound <= reach * (1.0 + 1e-9) + 1e-9)
     if todo.any() and kernels.enabled():

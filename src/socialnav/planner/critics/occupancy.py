@@ -97,9 +97,9 @@ class OccupancyCritic(Critic):
         """Per-cycle costmap lookups shared by every batch of the cycle."""
         if not self.footprint:
             return
-        if "occupancy_outline" not in ctx.extras:
+        if ctx.cache.occupancy_outline is None:
             _prepare_outline(ctx)
-        if self.circumscribed_cost is None and "occupancy_clearance" not in ctx.extras:
+        if self.circumscribed_cost is None and ctx.cache.occupancy_clearance is None:
             _prepare_clearance(ctx)
 
     def score(self, trajs: Trajectories, ctx: PlanningContext) -> CriticScore:
@@ -129,11 +129,11 @@ class OccupancyCritic(Critic):
         outline_data, clearance = None, None
         if self.footprint:
             self.prepare(ctx)
-            codes, pad = ctx.extras["occupancy_codes"]
-            outline = ctx.extras["occupancy_outline"]
+            outline, _, codes, pad = _outline(ctx)
             outline_data = (outline, codes.reshape(-1), pad, codes.shape[1])
             if self.circumscribed_cost is None:
-                clearance = (ctx.extras["occupancy_clearance"], ctx.extras["occupancy_need"])
+                clearance = _clearance(ctx)
+        cached = ctx.cache.occupancy_outline
         return kernels.occupancy_scan(
             poses,
             1 if poses.shape[1] > 1 else 0,
@@ -143,7 +143,7 @@ class OccupancyCritic(Critic):
             outline_data,
             clearance,
             self.circumscribed_cost,
-            np.array(_outline_sizes(ctx.extras.get("occupancy_outline", _NO_OUTLINE)), np.intp),
+            np.array(_outline_sizes(_NO_OUTLINE if cached is None else cached), np.intp),
             _CHUNK_STEPS,
         )
 
@@ -171,9 +171,10 @@ class OccupancyCritic(Critic):
             if self.circumscribed_cost is None:
                 # Outline points per pose that can reach a LETHAL/UNKNOWN cell (module doc);
                 # off-map centres are already ``unknown`` trajectories, skipped below.
-                need = ctx.extras["occupancy_need"][ctx.extras["occupancy_clearance"][row, col]]
+                clear, need_of = _clearance(ctx)
+                need = need_of[clear[row, col]]
             else:
-                k = ctx.extras["occupancy_outline"].shape[0]
+                k = _outline(ctx)[0].shape[0]
                 need = np.where(centre >= self.circumscribed_cost, k, 0).astype(np.intp)
             # Only poses of still-legal trajectories need the expensive outline test.
             need[unknown | collision] = 0
@@ -203,9 +204,7 @@ def _start_in_collision(ctx: PlanningContext, pose: FloatArray, footprint: bool)
         return True
     if not footprint:
         return False
-    if "occupancy_outline" not in ctx.extras:
-        _prepare_outline(ctx)
-    need = np.full((1, 1), ctx.extras["occupancy_outline"].shape[0], dtype=np.intp)
+    need = np.full((1, 1), _outline(ctx)[0].shape[0], dtype=np.intp)
     hit, _ = _outline_hits(ctx, np.asarray(pose, dtype=float)[None, None], need)
     return bool(hit[0])
 
@@ -218,14 +217,14 @@ def _never_closer(ctx: PlanningContext, poses: FloatArray, footprint: bool) -> N
     """
     geom = ctx.costmap.geometry
     res = geom.resolution
-    sdf = ctx.extras.get("occupancy_sdf")
+    sdf = ctx.cache.occupancy_sdf
     if sdf is None:
         lethal = ctx.costmap.costs == LETHAL
         if lethal.all() or not lethal.any():
             sdf = np.where(lethal, -res, np.inf)
         else:
             sdf = (distance_transform_edt(~lethal) - distance_transform_edt(lethal)) * res
-        ctx.extras["occupancy_sdf"] = sdf
+        ctx.cache.occupancy_sdf = sdf
     rows, cols = geom.shape
     inv = 1.0 / res
     flat_sdf = sdf.ravel()
@@ -269,15 +268,15 @@ def _prepare_outline(ctx: PlanningContext) -> None:
     outline = footprint_outline(ctx.robot.polygon, 0.5 * res)
     rho = np.hypot(outline[:, 0], outline[:, 1]) / res  # cells
     order = np.argsort(-rho, kind="stable")
-    ctx.extras["occupancy_outline"] = outline[order]
-    ctx.extras["occupancy_outline_rho"] = rho[order]
+    ctx.cache.occupancy_outline = outline[order]
+    ctx.cache.occupancy_outline_rho = rho[order]
     # Checked poses have their centre on the map, so every outline point lies within the
     # circumscribed radius of the map: a border that wide replaces clipping and the in-map test.
     pad = math.ceil(float(rho.max(initial=0.0))) + 2
     costs = ctx.costmap.costs
     # LETHAL (254) → 1, UNKNOWN (255) → 2, anything lower → 0
     codes = np.pad(np.maximum(costs, INSCRIBED) - np.uint8(INSCRIBED), pad, constant_values=_UNSEEN)
-    ctx.extras["occupancy_codes"] = (codes, pad)
+    ctx.cache.occupancy_codes = (codes, pad)
 
 
 def _prepare_clearance(ctx: PlanningContext) -> None:
@@ -289,14 +288,12 @@ def _prepare_clearance(ctx: PlanningContext) -> None:
     when the planner published its ``reach`` — only the box the rollouts can enter (poses
     outside it then check every point).
     """
-    if "occupancy_outline" not in ctx.extras:
-        _prepare_outline(ctx)
-    rho = ctx.extras["occupancy_outline_rho"]
+    rho = _outline(ctx)[1]
     rows, cols = ctx.costmap.geometry.shape
     # Window margin e: a hard cell outside the window is >= e + 1 cells away, beyond any reach.
     e = math.ceil(float(rho.max(initial=0.0)) + math.sqrt(2.0) + _CLEARANCE_MARGIN) + 1
     r0, r1, c0, c1 = 0, rows, 0, cols
-    reach = ctx.extras.get("reach")
+    reach = ctx.cache.reach
     if reach is not None:
         lo = ctx.costmap.geometry.world_to_cell(ctx.pose[:2] - reach)
         hi = ctx.costmap.geometry.world_to_cell(ctx.pose[:2] + reach)
@@ -326,8 +323,33 @@ def _prepare_clearance(ctx: PlanningContext) -> None:
     need = np.count_nonzero(
         rho[None, :] >= (levels - math.sqrt(2.0) - _CLEARANCE_MARGIN)[:, None], axis=1
     )
-    ctx.extras["occupancy_clearance"] = clear
-    ctx.extras["occupancy_need"] = need.astype(np.intp)
+    ctx.cache.occupancy_clearance = clear
+    ctx.cache.occupancy_need = need.astype(np.intp)
+
+
+def _outline(ctx: PlanningContext) -> tuple[FloatArray, FloatArray, NDArray[np.uint8], int]:
+    """The cycle's sorted outline ``(K, 2)``, its radii ``(K,)`` (cells), the padded hit-code
+    map and its pad (cells); prepared on first use."""
+    cache = ctx.cache
+    if cache.occupancy_outline is None:
+        _prepare_outline(ctx)
+    outline, rho, packed = (
+        cache.occupancy_outline,
+        cache.occupancy_outline_rho,
+        cache.occupancy_codes,
+    )
+    assert outline is not None and rho is not None and packed is not None
+    return outline, rho, packed[0], packed[1]
+
+
+def _clearance(ctx: PlanningContext) -> tuple[NDArray[np.uint16], NDArray[np.intp]]:
+    """The cycle's ``occupancy_clearance`` and ``occupancy_need``; prepared on first use."""
+    cache = ctx.cache
+    if cache.occupancy_clearance is None:
+        _prepare_clearance(ctx)
+    clear, need = cache.occupancy_clearance, cache.occupancy_need
+    assert clear is not None and need is not None
+    return clear, need
 
 
 def _outline_sizes(outline: FloatArray) -> list[int]:
@@ -343,8 +365,8 @@ def _outline_hits(
     ``need (N, T)`` sorted outline points of each pose (0: skip the pose)."""
     geom = ctx.costmap.geometry
     n, steps = need.shape
-    outline = ctx.extras["occupancy_outline"].astype(poses.dtype)  # (K, 2), far first
-    codes, pad = ctx.extras["occupancy_codes"]
+    outline_k, _, codes, pad = _outline(ctx)
+    outline = outline_k.astype(poses.dtype)  # (K, 2), far first
     flat_codes = codes.ravel()
     width = codes.shape[1]
     sizes = _outline_sizes(outline)
