@@ -23,9 +23,11 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from harness import Case, Row, print_rows, time_case
+from harness import Case, Row, format_seconds, print_rows, time_case, time_interleaved
 from socialnav.core.robot import PR2
 from socialnav.moo.selection import WeightedSum
+from socialnav.planner import kernels
+from socialnav.planner import objectives as objective_module
 from socialnav.planner.context import PlanningContext
 from socialnav.planner.critics import (
     GoalDistanceCritic,
@@ -102,7 +104,7 @@ def objectives(footprint: bool) -> tuple[Objective, ...]:
 
 def fresh_ctx(reach: float) -> PlanningContext:
     ctx = PlanningContext(POSE, VEL, np.array([*PATH[-1], 0.0]), PATH, COSTMAP, ROBOT)
-    ctx.extras["reach"] = reach
+    ctx.cache.reach = reach
     return ctx
 
 
@@ -128,7 +130,7 @@ def python_loop(twists: np.ndarray, params: RolloutParams, reach: float):
     ctx = fresh_ctx(reach)
     objs = objectives(True)
     evaluate(objs, rollout(POSE, VEL, twists[:1], ROBOT, params), ctx)  # fills the BFS grids
-    pgrid, ggrid = ctx.extras["path_distance_grid"], ctx.extras["goal_distance_grid"]
+    pgrid, ggrid = ctx.cache.path_distance_grid, ctx.cache.goal_distance_grid
     costs = COSTMAP.costs.tolist()  # nested lists: the fastest plain-Python cell lookup
     ox, oy = COSTMAP.geometry.origin
     res = COSTMAP.resolution
@@ -138,7 +140,8 @@ def python_loop(twists: np.ndarray, params: RolloutParams, reach: float):
     )
     steps = max(steps, 1)
     dt = params.sim_time / steps
-    dense, _, tangent = ctx.extras["heading_plan"]
+    plan = ctx.cache.heading_plan
+    dense, tangent = plan.dense, plan.tangent
     dense_l = [tuple(p) for p in dense]
 
     def cell(x, y):
@@ -187,8 +190,76 @@ def python_loop(twists: np.ndarray, params: RolloutParams, reach: float):
     return run
 
 
+def with_kernels(flag: bool, fn):
+    """``fn`` run with the compiled kernels on (``True``) or the NumPy reference (``False``)."""
+
+    def run():
+        previous = kernels.set_enabled(flag)
+        try:
+            return fn()
+        finally:
+            kernels.set_enabled(previous)
+
+    return run
+
+
+def fresh_grids(fn):
+    """``fn`` run without the cross-cycle reuse of prepared grids (every cycle prepares anew,
+    as a moving robot's shifting window does, and as the implementation before it did)."""
+
+    def run():
+        saved = objective_module._REUSE
+        objective_module._REUSE = objective_module.PreparedReuse(size=0)
+        try:
+            return fn()
+        finally:
+            objective_module._REUSE = saved
+
+    return run
+
+
+def compiled_vs_reference(repeats: int) -> None:
+    """Full cycle (sampling excluded: fixed twists) on the compiled kernels against the NumPy
+    reference, each with fresh grids every cycle and with the prepared grids reused (this scene
+    is static: every cycle after the first reuses them), interleaved in one run; wall and
+    CPU-time medians. Baseline = NumPy reference with fresh grids (the implementation before)."""
+    if not kernels.enabled():
+        print("\n(compiled kernels unavailable or SOCIALNAV_KERNELS=reference: skipped)")
+        return
+    print(f"\nkernel compile/cache load at planner construction: {kernels.compile_seconds:.2f} s")
+    header = (
+        "| N x T | occupancy | variant | wall (median) | wall (min) | CPU (median) "
+        "| speed-up (CPU) |"
+    )
+    print("\n## Compiled kernels vs the NumPy reference (same run, interleaved)\n")
+    print(header)
+    print("|" + "|".join("---" for _ in range(7)) + "|")
+    for n, t in ((400, 34), (2000, 56)):
+        for footprint in (True, False):
+            cycle, *_ = make_cycle(n, t, footprint)
+            variants = {
+                "numpy reference, fresh grids (baseline)": fresh_grids(with_kernels(False, cycle)),
+                "numpy reference, grids reused": with_kernels(False, cycle),
+                "compiled, fresh grids": fresh_grids(with_kernels(True, cycle)),
+                "compiled, grids reused": with_kernels(True, cycle),
+            }
+            chosen = {fn().index for fn in variants.values()}
+            assert len(chosen) == 1, "compiled and reference selections differ"
+            timed = time_interleaved(list(variants.values()), repeats, warmup=2)
+            base = timed[0][2]
+            fp = "footprint" if footprint else "centre only"
+            for name, (w, wmin, c) in zip(variants, timed, strict=True):
+                ratio = "" if c == base else f"{base / c:.1f}x"
+                print(
+                    f"| {n}x{t} | {fp} | {name} | {format_seconds(w)} | {format_seconds(wmin)} "
+                    f"| {format_seconds(c)} | {ratio} |"
+                )
+
+
 def main(quick: bool = False) -> None:
     repeats = 5 if quick else 15
+    kernels.warmup()
+    compiled_vs_reference(3 * repeats)
     rows: list[Row] = []
     for n, t in ((400, 34), (2000, 56)):
         group = f"{n}x{t}"
@@ -196,8 +267,10 @@ def main(quick: bool = False) -> None:
         for footprint in (True, False):
             fp = "footprint" if footprint else "centre only"
             cycle, *_ = make_cycle(n, t, footprint)
+            cycle = fresh_grids(with_kernels(False, cycle))
             cases.append(Case(group, f"numpy f64, {fp}", cycle, repeats=repeats, warmup=2))
         cycle32, *_ = make_cycle(n, t, True, np.float32)
+        cycle32 = fresh_grids(with_kernels(False, cycle32))
         cases.append(Case(group, "numpy f32, footprint", cycle32, repeats=repeats, warmup=2))
         _, twists, params, reach = make_cycle(n, t, True)
         picked = twists[:: max(1, n // LOOP_SAMPLES)][:LOOP_SAMPLES]
@@ -222,7 +295,7 @@ def main(quick: bool = False) -> None:
     print_rows(
         rows,
         "Local planner cycle (rollout + 4 critics incl. BFS grids + selection), "
-        "10 m x 10 m costmap at 0.05 m",
+        "10 m x 10 m costmap at 0.05 m; NumPy reference, fresh grids every cycle",
     )
 
     # Stage breakdown of the real planner (dynamic-window samples, PR2 defaults).
@@ -230,14 +303,14 @@ def main(quick: bool = False) -> None:
     stages: dict[str, list[float]] = {}
     for _ in range(repeats):
         ctx = PlanningContext(POSE, VEL, np.array([*PATH[-1], 0.0]), PATH, COSTMAP, ROBOT)
-        rec = planner.plan(ctx, record=True).record
+        rec = fresh_grids(lambda ctx=ctx: planner.plan(ctx, record=True))().record
         assert rec is not None
         for k, v in rec.timing.items():
             stages.setdefault(k, []).append(v)
     t_poses = rollout(POSE, VEL, rec.twists, ROBOT, LocalPlannerParams()).t.size
     print(
         f"\n## LocalPlanner.plan stage medians (PR2 defaults: N = {rec.num_samples}, "
-        f"T = {t_poses})\n"
+        f"T = {t_poses}; compiled kernels, fresh grids every cycle)\n"
     )
     for k, v in stages.items():
         print(f"- {k}: {np.median(v) * 1e3:.3f} ms")

@@ -6,11 +6,11 @@ Setup: a 10 m × 10 m local costmap at 0.05 m (200 × 200 cells) with walls, a p
 and a pillar, inflated for the PR2, with people added as obstacle discs (as the Navigator's
 obstacle layer does). The holonomic PR2 at (4.8, 5.8) moving at 0.3 m/s, on its approach from
 (1.0, 4.5); the global plan (``plan_path``) runs from the robot to the target. People (seeded):
-with 5 or 20 people, 3 stand in an O-formation ~2.2 m ahead that the robot joins (social goal
+with 5 or more people, 3 stand in an O-formation ~2.2 m ahead that the robot joins (social goal
 ``o_formation_join_pose``; objectives navigation + ID + GD + SGD, all active); the others stand
-or walk along the path (0.3–1.0 m/s) 0.6–2.5 m beside it, from 3 m behind to 4 m ahead (the
-first one stands 1–1.5 m ahead). With 1 person there is no group and no social goal
-(navigation + ID: the paper's hallway, m = 2).
+or walk along the path (0.3–1.0 m/s) 0.6–2.5 m beside it (up to 4 m with more than 20),
+from 3 m behind to 4 m ahead (the first one stands 1–1.5 m ahead). With 1 person there is no
+group and no social goal (navigation + ID: the paper's hallway, m = 2).
 
 Planners are the real presets through ``LocalPlanner.plan(ctx, record=True)`` (a fresh context
 every cycle, so per-cycle BFS grids are rebuilt as in the control loop):
@@ -31,15 +31,18 @@ from __future__ import annotations
 
 import statistics
 import sys
+import tracemalloc
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from harness import format_seconds
+from bench_planner import fresh_grids
+from harness import format_seconds, time_interleaved
 from socialnav.core.robot import PR2
 from socialnav.core.scene import Group, Person, SocialContext
 from socialnav.moo.selection import WeightedSum
+from socialnav.planner import kernels
 from socialnav.planner.context import PlanningContext
 from socialnav.planner.global_planner import plan_path
 from socialnav.planner.local_planner import LocalPlanner, LocalPlannerParams
@@ -66,17 +69,19 @@ GIVEN_GOAL = np.array([9.0, 7.2, 0.0])  # 1 person: no social goal; START–goal
 GROUP_CENTER = np.array([7.6, 6.6])
 GROUP_RADIUS = 0.7
 GROUP_BEARINGS = np.radians([20.0, 110.0, 250.0])  # widest gap (110°→250°) faces the robot
-PEOPLE_COUNTS = (1, 5, 20)
+PEOPLE_COUNTS = (1, 5, 10, 20, 50)
 # (vx, vy, vth) samples → N at VEL (in-place rotations below min_in_place_vel_theta are dropped).
 SAMPLINGS = ((9, 5, 9), (13, 9, 17))
 
 
+WALLS = np.array([[[0.3, 0.6], [9.7, 0.6]], [[0.3, 9.4], [9.7, 9.4]], [[6.5, 0.6], [6.5, 3.0]]])
+BOXES = [np.array([[3.0, 6.8], [3.8, 6.8], [3.8, 7.6], [3.0, 7.6]])]
+PILLAR = np.array([[5.0, 3.6, 0.2]])
+
+
 def static_costmap() -> Costmap:
     geom = GridGeometry((200, 200), 0.05)
-    walls = np.array([[[0.3, 0.6], [9.7, 0.6]], [[0.3, 9.4], [9.7, 9.4]], [[6.5, 0.6], [6.5, 3.0]]])
-    boxes = [np.array([[3.0, 6.8], [3.8, 6.8], [3.8, 7.6], [3.0, 7.6]])]
-    pillar = np.array([[5.0, 3.6, 0.2]])
-    occ = rasterize(geom, segments=walls, polygons=boxes, discs=pillar, thickness=0.1)
+    occ = rasterize(geom, segments=WALLS, polygons=BOXES, discs=PILLAR, thickness=0.1)
     return inflate(occ, geom, ROBOT.inscribed_radius)
 
 
@@ -105,6 +110,8 @@ def place_people(
     s = np.concatenate([[0.0], np.cumsum(np.hypot(*seg.T))])
     s_robot = s[np.argmin(np.hypot(*(path - POSE[:2]).T))]
     usable = np.flatnonzero((s > s_robot - 3.0) & (s < min(s_robot + 4.0, s[-1] - 0.8)))
+    # Crowds beyond 20 need a wider band (up to 4 m beside the path) and 0.6 m spacing.
+    band, spacing = (2.5, 0.7) if count <= 20 else (4.0, 0.6)
     people: list[Person] = []
     for _ in range(20000):
         if len(people) == count:
@@ -114,7 +121,7 @@ def place_people(
         i = int(rng.choice(np.flatnonzero(ahead) if first else usable))
         tangent = seg[min(i, seg.shape[0] - 1)]
         normal = np.array([-tangent[1], tangent[0]]) / np.hypot(*tangent)
-        offset = rng.uniform(0.6, 0.9) if first else rng.uniform(0.6, 2.5)
+        offset = rng.uniform(0.6, 0.9) if first else rng.uniform(0.6, band)
         p = path[i] + rng.choice([-1.0, 1.0]) * offset * normal
         # Half walk along the path (either way); a walker starts far enough away that it cannot
         # reach the robot's spot within the 1.7 s horizon, so the scene stays passable.
@@ -124,7 +131,7 @@ def place_people(
             continue
         if np.hypot(*(p - POSE[:2])) < 1.0 + 1.7 * speed:
             continue
-        if taken and min(np.hypot(*(p - q)) for q in taken) < 0.7:
+        if taken and min(np.hypot(*(p - q)) for q in taken) < spacing:
             continue
         taken.append(p)
         vel = (speed * np.cos(heading), speed * np.sin(heading))
@@ -285,6 +292,129 @@ def print_breakdown(title: str, measured: dict[str, Measured]) -> None:
     print_table(["stage", *measured], rows)
 
 
+def peak_memory(fn: Callable[[], object]) -> int:
+    """tracemalloc peak (bytes) over one call of ``fn`` (warmed up by the caller)."""
+    tracemalloc.start()
+    try:
+        fn()
+        return tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+
+
+def compiled_vs_reference(scenes: dict[int, Scene], repeats: int) -> None:
+    """``paccet`` cycles at N ≈ 2000 on the compiled kernels and on the NumPy reference,
+    interleaved in one run (each on its own planner, so PaCcET's archive evolves alike), with
+    fresh grids every cycle (a moving robot) and, compiled, with the prepared grids reused (this
+    scene is static); the chosen candidates must agree. Peak memory: tracemalloc over one
+    warmed-up cycle."""
+    if not kernels.enabled():
+        print("\n(compiled kernels unavailable or SOCIALNAV_KERNELS=reference: skipped)")
+        return
+    params = LocalPlannerParams(*SAMPLINGS[-1])
+    predict = PRESETS.get("paccet").predict_people
+    print(
+        "\n## PaCcET cycle, compiled kernels vs the NumPy reference (same run, interleaved; "
+        f"kernel compile/cache load {kernels.compile_seconds:.2f} s, at construction)\n"
+    )
+    header = [
+        "people",
+        "N",
+        "variant",
+        "cycle wall (median)",
+        "cycle wall (min)",
+        "cycle CPU (median)",
+        "speed-up (CPU)",
+        "peak memory",
+    ]
+    body: list[list[str]] = []
+    for n_people in sorted(scenes):
+        scene = scenes[n_people]
+        runs = {}
+        for name, flag, fresh in (
+            ("numpy reference, fresh grids (baseline)", False, True),
+            ("compiled, fresh grids", True, True),
+            ("compiled, grids reused", True, False),
+        ):
+            planner = build_local_planner("paccet", ROBOT, scene.social, params)
+
+            def cycle(planner=planner, flag=flag, scene=scene):
+                previous = kernels.set_enabled(flag)
+                try:
+                    return planner.plan(make_context(scene, predict), record=True)
+                finally:
+                    kernels.set_enabled(previous)
+
+            runs[name] = fresh_grids(cycle) if fresh else cycle
+        chosen = set()
+        for run in runs.values():
+            record = run().record
+            assert record is not None
+            chosen.add(record.chosen)
+        assert len(chosen) == 1, "compiled and reference choices differ"
+        timed = time_interleaved(list(runs.values()), repeats, warmup=1)
+        base = timed[0][2]
+        for (name, run), (w, wmin, c) in zip(runs.items(), timed, strict=True):
+            peak = peak_memory(run)
+            body.append(
+                [
+                    str(n_people),
+                    str(record.num_samples),
+                    name,
+                    format_seconds(w),
+                    format_seconds(wmin),
+                    format_seconds(c),
+                    "" if c == base else f"{base / c:.1f}x",
+                    f"{peak / 2**20:.1f} MB",
+                ]
+            )
+    print_table(header, body)
+
+
+def navground_rows(scenes: dict[int, Scene], repeats: int) -> None:
+    """navground's HL, ORCA and SocialForce computing the robot's command in the same scenes
+    (walls, box edges and pillar as obstacles, the people as neighbours, the same goal): CPU
+    time per ``compute_cmd`` = one agent step."""
+    try:
+        from navground import core
+
+        from socialnav.sim.baselines import make_behavior
+    except ImportError:
+        print("\n(navground not installed: no navground rows)")
+        return
+    print("\n## navground behaviours in the same scenes (one agent step = one compute_cmd)\n")
+    header = ["people", "behaviour", "step CPU (median)", "step wall (median)"]
+    body: list[list[str]] = []
+    edges = [*WALLS, *(np.stack([b, np.roll(b, -1, axis=0)], axis=1) for b in BOXES)]
+    segments = [
+        core.LineSegment(tuple(map(float, a)), tuple(map(float, b)))
+        for group in edges
+        for a, b in np.asarray(group).reshape(-1, 2, 2)
+    ]
+    for n_people in sorted(scenes):
+        scene = scenes[n_people]
+        for name in ("HL", "ORCA", "SocialForce"):
+            behavior = make_behavior(name, ROBOT)
+            state = behavior.environment_state
+            state.line_obstacles = segments
+            state.static_obstacles = [core.Disc((x, y), r) for x, y, r in PILLAR.tolist()]
+            state.neighbors = [
+                core.Neighbor(p.position, p.radius, p.velocity, p.id) for p in scene.social.people
+            ]
+            behavior.pose = core.Pose2((float(POSE[0]), float(POSE[1])), float(POSE[2]))
+            behavior.twist = core.Twist2((float(VEL[0]), 0.0), 0.0, frame=core.Frame.relative)
+            behavior.target = core.Target(
+                position=(float(scene.goal[0]), float(scene.goal[1])), position_tolerance=0.1
+            )
+
+            def step(behavior=behavior):
+                return behavior.compute_cmd(0.1, core.Frame.relative)
+
+            ((w, _, c),) = time_interleaved([step], 10 * repeats, warmup=5)
+            body.append([str(n_people), name, format_seconds(c), format_seconds(w)])
+    print_table(header, body)
+
+
 def main(quick: bool = False) -> None:
     repeats, warmup = (5, 1) if quick else (25, 3)
     static = static_costmap()
@@ -304,7 +434,7 @@ def main(quick: bool = False) -> None:
     ]
     body: list[list[str]] = []
     # Stage breakdowns: the brief's case (5 people, N ≈ 400) and the slowest (20, N ≈ 2000).
-    wanted = {(5, SAMPLINGS[0]): {}, (20, SAMPLINGS[-1]): {}}
+    wanted = {(5, SAMPLINGS[0]): {}, (20, SAMPLINGS[-1]): {}, (50, SAMPLINGS[-1]): {}}
     breakdowns: dict[tuple[int, tuple[int, int, int]], dict[str, Measured]] = wanted
     poses_per_rollout = {}
     sample_counts = {}
@@ -364,6 +494,8 @@ def main(quick: bool = False) -> None:
     print_table(header, body)
     for (n_people, samples), measured in breakdowns.items():
         print_breakdown(f"Stage medians, {n_people} people, N = {sample_counts[samples]}", measured)
+    compiled_vs_reference(scenes, repeats)
+    navground_rows(scenes, repeats)
 
 
 if __name__ == "__main__":

@@ -97,3 +97,25 @@ def print_rows(rows: Sequence[Row], title: str = "") -> None:
     print("|" + "|".join("-" * (w + 2) for w in widths) + "|")
     for b in body:
         print("| " + " | ".join(c.ljust(w) for c, w in zip(b, widths, strict=True)) + " |")
+
+
+def time_interleaved(
+    fns: Sequence[Callable[[], object]], repeats: int, warmup: int = 1
+) -> list[tuple[float, float, float]]:
+    """(wall median, wall min, CPU-time median) seconds per function, calls interleaved round
+    by round so that load changes hit every function alike. On a loaded machine the thread's
+    CPU time (``time.thread_time``) excludes the time spent waiting for a core."""
+    for _ in range(warmup):
+        for fn in fns:
+            fn()
+    wall: list[list[float]] = [[] for _ in fns]
+    cpu: list[list[float]] = [[] for _ in fns]
+    for _ in range(repeats):
+        for i, fn in enumerate(fns):
+            c0, w0 = time.thread_time(), time.perf_counter()
+            fn()
+            wall[i].append(time.perf_counter() - w0)
+            cpu[i].append(time.thread_time() - c0)
+    return [
+        (statistics.median(w), min(w), statistics.median(c)) for w, c in zip(wall, cpu, strict=True)
+    ]

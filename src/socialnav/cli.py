@@ -363,14 +363,19 @@ def detect(
 def validate(
     scenario: Annotated[str, typer.Argument(help="Built-in scenario name or path to a YAML file.")],
 ) -> None:
-    """Check a scenario file; errors name the file and the field."""
+    """Check a scenario file, its geometry (start, goal and people outside walls and obstacles,
+    start and goal on the map) and its ROS map; errors name the file and the field."""
     from socialnav.core.errors import ConfigurationError
     from socialnav.sim.scenario import load_scenario
 
     try:
         loaded = load_scenario(scenario)
+        problems = loaded.geometry_problems()
     except ConfigurationError as exc:
         _fail(str(exc))
+        return
+    if problems:
+        _fail("\n".join(f"{scenario}: {p}" for p in problems))
         return
     typer.echo(f"{scenario}: ok ({loaded.name}, family {loaded.family})")
 

@@ -13,7 +13,7 @@ from _planner_helpers import blank, context
 
 from socialnav.core.robot import PR2
 from socialnav.planner.critics import GoalDistanceCritic, PathDistanceCritic
-from socialnav.planner.critics.path_distance import (
+from socialnav.planner.critics.map_grid import (
     GridGraph,
     bfs_distance,
     local_plan_cells,
@@ -144,12 +144,12 @@ def test_critic_grids_share_one_graph_and_are_exact_in_the_reach_box():
     cm.costs[30:50, 20:70] = LETHAL  # a block the plan must go round
     path = np.array([[2.2, 2.0], [0.4, 3.6], [4.3, 3.9], [4.4, 0.2]])
     ctx = context(cm, PR2, pose=(2.2, 2.0, 0.0), path=path, goal=(4.4, 0.2, 0.0))
-    ctx.extras["reach"] = 0.6
+    ctx.cache.reach = 0.6
     PathDistanceCritic().prepare(ctx)
     GoalDistanceCritic().prepare(ctx)
     cells = local_plan_cells(ctx.costmap, ctx.global_path)
     box = settle_region(ctx)
     passable = passable_cells(ctx)
-    assert_contract(ctx.extras["path_distance_grid"], queue_bfs(passable, cells), box)
-    assert_contract(ctx.extras["goal_distance_grid"], queue_bfs(passable, cells[-1:]), box)
-    assert "bfs_grid_graph" in ctx.extras
+    assert_contract(ctx.cache.path_distance_grid, queue_bfs(passable, cells), box)
+    assert_contract(ctx.cache.goal_distance_grid, queue_bfs(passable, cells[-1:]), box)
+    assert ctx.cache.grid_graph is not None

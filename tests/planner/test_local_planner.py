@@ -219,7 +219,8 @@ def test_recovery_then_stuck_when_boxed_in():
         PIONEER,
     )
     planner = RecoveringPlanner(
-        traditional_planner(PIONEER), RecoveryParams(progress_time=3.0, max_recoveries=3)
+        traditional_planner(PIONEER),
+        RecoveryParams(movement_time_allowance=3.0, controller_patience=5.0, max_recoveries=3),
     )
     pose = np.array([2.0, 2.0, 0.0])
     seen = []
@@ -240,3 +241,14 @@ def test_recovery_then_stuck_when_boxed_in():
     assert PlannerStatus.RECOVERING in seen
     assert seen[-1] == PlannerStatus.STUCK
     assert np.hypot(pose[0] - 2.0, pose[1] - 2.0) < 0.3
+    # STUCK is a status, not a latch: once the box is gone the planner drives on at once.
+    open_map, _ = world(4.0, 4.0, [], PIONEER)
+    ctx = context(
+        open_map,
+        PIONEER,
+        pose=pose,
+        path=np.array([pose[:2], [3.5, 2.0]]),
+        goal=(3.5, 2.0, 0.0),
+        time=8.1,
+    )
+    assert planner.plan(ctx).status == PlannerStatus.OK

@@ -16,7 +16,7 @@ from socialnav.planner.critics import (
     OccupancyCritic,
     PathDistanceCritic,
 )
-from socialnav.planner.critics.path_distance import bfs_distance, local_plan_cells
+from socialnav.planner.critics.map_grid import bfs_distance, local_plan_cells
 from socialnav.world.grid import INSCRIBED, LETHAL, UNKNOWN, Costmap, GridGeometry
 from socialnav.world.inflation import circumscribed_cost, inflate
 
@@ -227,11 +227,11 @@ def test_shortcuts_agree_with_checking_every_pose(robot):
     poses = tr.poses.copy()
     poses[..., 2] = rng.uniform(-np.pi, np.pi, (200, 1))
     tr = Trajectories(tr.twists, poses, tr.t)
-    ctx = lambda: context(cm, robot, pose=(*starts, 0.0))  # noqa: E731 - fresh extras
+    ctx = lambda: context(cm, robot, pose=(*starts, 0.0))  # noqa: E731 - fresh cache
     exhaustive = OccupancyCritic(circumscribed_cost=0).score(tr, ctx())
     masked = OccupancyCritic().score(tr, ctx())
     boxed_ctx = ctx()
-    boxed_ctx.extras["reach"] = 0.6  # the mask is then only computed near the robot
+    boxed_ctx.cache.reach = 0.6  # the mask is then only computed near the robot
     boxed = OccupancyCritic().score(tr, boxed_ctx)
     thr = circumscribed_cost(robot.circumscribed_radius, robot.inscribed_radius, resolution=0.05)
     threshold = OccupancyCritic(circumscribed_cost=thr).score(tr, ctx())

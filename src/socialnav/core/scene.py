@@ -154,3 +154,52 @@ class SocialContext:
     def with_people(self, people: tuple[Person, ...]) -> SocialContext:
         """The same groups/queues/artworks/structures with updated people (ids must resolve)."""
         return SocialContext(people, self.groups, self.queues, self.artworks, self.structures)
+
+    @classmethod
+    def in_view(
+        cls,
+        people: tuple[Person, ...],
+        groups: tuple[Group, ...] = (),
+        queues: tuple[Queue, ...] = (),
+        artworks: tuple[Artwork, ...] = (),
+        structures: tuple[Structure, ...] = (),
+    ) -> SocialContext:
+        """The context of the ``people`` in view: groups and queues keep only the members in
+        view (a group needs two, a queue one, or it is dropped); artworks keep their viewers
+        in view; other structures keep their members in view (dropped when none is left of
+        a structure that had members). Raises ``InvalidInputError`` on duplicate person ids."""
+        present = {p.id for p in people}
+        kept_groups = tuple(
+            Group(ids, g.mode)
+            for g in groups
+            if len(ids := tuple(i for i in g.member_ids if i in present)) >= 2
+        )
+        kept_queues = tuple(
+            Queue(ids, q.service_point, q.spacing)
+            for q in queues
+            if (ids := tuple(i for i in q.member_ids if i in present))
+        )
+        kept_art = tuple(
+            Artwork(a.center, a.width, a.facing, tuple(i for i in a.viewer_ids if i in present))
+            for a in artworks
+        )
+        kept_structures = tuple(
+            Structure(x.kind, x.params, ids)
+            for x in structures
+            if (ids := tuple(i for i in x.member_ids if i in present)) or not x.member_ids
+        )
+        return cls(tuple(people), kept_groups, kept_queues, kept_art, kept_structures)
+
+    def within(self, center: FloatArray, radius: float) -> SocialContext:
+        """The people within ``radius`` m of ``center (2,)`` (world frame), with their groups,
+        queues and artworks as :meth:`in_view` keeps them; ``self`` when nobody is dropped."""
+        if not self.people:
+            return self
+        d = np.hypot(*(self.positions() - np.asarray(center, dtype=float)[:2]).T)
+        keep = d <= radius
+        if keep.all():
+            return self
+        people = tuple(p for p, k in zip(self.people, keep, strict=True) if k)
+        return SocialContext.in_view(
+            people, self.groups, self.queues, self.artworks, self.structures
+        )

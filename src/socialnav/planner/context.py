@@ -3,13 +3,14 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from socialnav.core.geometry import FloatArray
 from socialnav.core.robot import RobotModel
 from socialnav.core.scene import SocialContext
+from socialnav.planner.cache import CycleCache
 from socialnav.world.grid import Costmap
 
 if TYPE_CHECKING:
@@ -28,7 +29,9 @@ class PlanningContext:
       :class:`~socialnav.social.goals.SocialGoal` or ``None``.
     - ``predict_people``: forecast people along the rollout by constant velocity; when ``False``
       people stay where they are now (the paper's end-point evaluation).
-    - ``extras``: per-cycle shared data that critics compute in ``prepare`` (e.g. BFS grids).
+    - ``cache``: the typed per-cycle data critics share
+      (:class:`~socialnav.planner.cache.CycleCache`: map grids, people distances, ...); the one
+      mutable part, filled in ``prepare``.
     """
 
     pose: FloatArray
@@ -41,7 +44,7 @@ class PlanningContext:
     social_goal: SocialGoal | None = None
     predict_people: bool = True
     time: float = 0.0
-    extras: dict[str, Any] = field(default_factory=dict)
+    cache: CycleCache = field(default_factory=CycleCache, compare=False, repr=False)
 
     def people_at(self, t: FloatArray) -> FloatArray:
         """People positions ``(T, K, 2)`` at times ``t (T,)`` seconds from now."""

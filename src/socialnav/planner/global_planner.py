@@ -24,6 +24,7 @@ LETHAL (or off-map) start is ``START_BLOCKED``.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import lru_cache
 from typing import Literal
 
 import numpy as np
@@ -33,7 +34,8 @@ from scipy.sparse.csgraph import dijkstra
 
 from socialnav.core.errors import InvalidInputError
 from socialnav.core.geometry import as_points
-from socialnav.world.grid import LETHAL, UNKNOWN, Costmap
+from socialnav.planner import kernels
+from socialnav.world.grid import LETHAL, UNKNOWN, Costmap, GridGeometry
 
 PlanStatus = Literal["OK", "NO_PATH", "START_BLOCKED", "GOAL_BLOCKED"]
 
@@ -44,11 +46,13 @@ _OFFSETS = ((-1, -1), (-1, 0), (-1, 1), (0, -1), (0, 1), (1, -1), (1, 0), (1, 1)
 @dataclass(frozen=True)
 class GlobalPlan:
     """``path (P, 2)`` world points from start to goal (``None`` unless ``status == "OK"``),
-    and its ``cost`` (cost units × m; ``inf`` when there is no path)."""
+    its ``cost`` (cost units × m; ``inf`` when there is no path) and the ``goal (2,)`` it ends at
+    (the requested goal, or its substitute under ``tolerance``; ``None`` without a path)."""
 
     path: NDArray[np.float64] | None
     status: PlanStatus
     cost: float
+    goal: NDArray[np.float64] | None = None
 
 
 def traversable(
@@ -75,13 +79,17 @@ def grid_graph(
     """
     rows, cols = costs.shape
     n = rows * cols
+    index, indptr = _grid_structure(rows, cols)
+    if kernels.enabled():  # one compiled pass, the same weights bit for bit
+        steps = np.array([resolution * float(np.hypot(dr, dc)) for dr, dc in _OFFSETS])
+        w8 = kernels.grid_weights(
+            costs, passable, np.array(_OFFSETS), steps, neutral_cost, cost_factor
+        )
+        return csr_array((w8.reshape(-1), index.reshape(-1), indptr), shape=(n, n))
     c = costs.astype(np.float64)
     pad_ok = np.pad(passable, 1, constant_values=False)
     pad_c = np.pad(c, 1)
-    rr = np.arange(rows)[:, None]
-    cc = np.arange(cols)[None, :]
     weights = np.full((rows, cols, 8), np.inf)
-    index = np.empty((rows, cols, 8), dtype=np.int32 if n < 2**31 else np.int64)
     for k, (dr, dc) in enumerate(_OFFSETS):
         nb = (slice(1 + dr, 1 + dr + rows), slice(1 + dc, 1 + dc + cols))
         ok = passable & pad_ok[nb]
@@ -91,10 +99,24 @@ def grid_graph(
         step = resolution * float(np.hypot(dr, dc))
         w = step * (neutral_cost + cost_factor * 0.5 * (c + pad_c[nb]))
         weights[..., k] = np.where(ok, w, np.inf)
+    return csr_array((weights.reshape(-1), index.reshape(-1), indptr), shape=(n, n))
+
+
+@lru_cache(maxsize=8)
+def _grid_structure(rows: int, cols: int) -> tuple[NDArray[np.integer], NDArray[np.integer]]:
+    """The CSR column indices ``(rows, cols, 8)`` and row pointers of the 8-slot grid graph:
+    they depend on the shape only, so replanning on the same map reuses them (read-only)."""
+    n = rows * cols
+    rr = np.arange(rows)[:, None]
+    cc = np.arange(cols)[None, :]
+    index = np.empty((rows, cols, 8), dtype=np.int32 if n < 2**31 else np.int64)
+    for k, (dr, dc) in enumerate(_OFFSETS):
         # Border slots point at a clipped (valid) node; their weight is inf, so never used.
         index[..., k] = np.clip(rr + dr, 0, rows - 1) * cols + np.clip(cc + dc, 0, cols - 1)
     indptr = np.arange(0, 8 * n + 1, 8, dtype=index.dtype)
-    return csr_array((weights.reshape(-1), index.reshape(-1), indptr), shape=(n, n))
+    index.setflags(write=False)
+    indptr.setflags(write=False)
+    return index, indptr
 
 
 def plan_path(
@@ -105,12 +127,22 @@ def plan_path(
     cost_factor: float = 3.0,
     lethal_cost: int = 253,
     allow_unknown: bool = False,
+    tolerance: float = 0.0,
+    substitutes: NDArray[np.bool_] | None = None,
 ) -> GlobalPlan:
     """Cheapest 8-connected path from ``start_xy (2,)`` to ``goal_xy (2,)`` (m) over ``costmap``.
 
     Statuses: ``START_BLOCKED`` (start off the map or on a LETHAL cell; any other start cell is
     treated as free, like ROS clearing the robot cell), ``GOAL_BLOCKED``
     (goal off the map or on a blocked cell), ``NO_PATH`` (disconnected), ``OK``.
+
+    ``tolerance`` (m) is navfn's ``default_tolerance``: when the goal is blocked or not reachable,
+    the plan ends instead at the cell centre nearest the goal, within ``tolerance``, that is
+    *reachable from the start* (navfn searches the potential it propagated from the robot); the
+    status is then ``OK`` and ``GlobalPlan.goal`` is that substitute. A goal off the map gets
+    one too when a reachable cell lies within the tolerance. ``substitutes (rows, cols)``
+    optionally restricts which cells may be substitutes (e.g. those with room for the whole
+    footprint in any orientation).
     Raises ``InvalidInputError`` only on malformed input (NaN, wrong shape, bad parameters).
     """
     start = as_points(start_xy, "start_xy")
@@ -123,6 +155,8 @@ def plan_path(
         raise InvalidInputError(f"cost_factor must be >= 0, got {cost_factor}")
     if not 1 <= lethal_cost <= UNKNOWN:
         raise InvalidInputError(f"lethal_cost must be in [1, 255], got {lethal_cost}")
+    if not (np.isfinite(tolerance) and tolerance >= 0):
+        raise InvalidInputError(f"tolerance must be finite and >= 0, got {tolerance}")
 
     geo = costmap.geometry
     costs = costmap.costs
@@ -131,7 +165,8 @@ def plan_path(
     if not geo.in_bounds(s_rc) or costs[s_rc[0], s_rc[1]] == LETHAL:
         return GlobalPlan(None, "START_BLOCKED", float("inf"))
     passable = traversable(costs, lethal_cost, allow_unknown)
-    if not geo.in_bounds(g_rc) or not passable[g_rc[0], g_rc[1]]:
+    goal_ok = bool(geo.in_bounds(g_rc)) and bool(passable[g_rc[0], g_rc[1]])
+    if not goal_ok and tolerance <= 0:
         return GlobalPlan(None, "GOAL_BLOCKED", float("inf"))
     # The robot's own cell is always enterable/leavable (ROS clears it).
     passable = passable.copy()
@@ -139,14 +174,20 @@ def plan_path(
 
     cols = geo.shape[1]
     s_idx = int(s_rc[0] * cols + s_rc[1])
-    g_idx = int(g_rc[0] * cols + g_rc[1])
+    g_idx = int(g_rc[0] * cols + g_rc[1]) if goal_ok else -1
     if s_idx == g_idx:
-        return GlobalPlan(np.stack([start, goal]), "OK", 0.0)
+        return GlobalPlan(np.stack([start, goal]), "OK", 0.0, goal)
 
     graph = grid_graph(costs, geo.resolution, passable, neutral_cost, cost_factor)
     dist, pred = dijkstra(graph, directed=True, indices=s_idx, return_predecessors=True)
-    if not np.isfinite(dist[g_idx]):
-        return GlobalPlan(None, "NO_PATH", float("inf"))
+    if g_idx < 0 or not np.isfinite(dist[g_idx]):
+        substitute = _reachable_within(geo, dist, goal, tolerance, substitutes)
+        if substitute is None:
+            return GlobalPlan(None, "GOAL_BLOCKED" if not goal_ok else "NO_PATH", float("inf"))
+        g_idx = int(substitute)
+        goal = geo.cell_to_world(np.array([g_idx // cols, g_idx % cols]))
+        if g_idx == s_idx:
+            return GlobalPlan(np.stack([start, goal]), "OK", 0.0, goal)
 
     chain = [g_idx]
     node = g_idx
@@ -156,7 +197,38 @@ def plan_path(
     nodes = np.asarray(chain[::-1])
     centres = geo.cell_to_world(np.stack([nodes // cols, nodes % cols], axis=-1))
     path = np.concatenate([start[None], centres[1:-1], goal[None]], axis=0)
-    return GlobalPlan(path, "OK", float(dist[g_idx]))
+    return GlobalPlan(path, "OK", float(dist[g_idx]), goal)
+
+
+def _reachable_within(
+    geo: GridGeometry,
+    dist: NDArray[np.float64],
+    goal: NDArray[np.float64],
+    tolerance: float,
+    allowed: NDArray[np.bool_] | None,
+) -> int | None:
+    """Flat index of the reached cell nearest ``goal`` within ``tolerance`` m (window search)."""
+    if tolerance <= 0:
+        return None
+    res = geo.resolution
+    rows, cols = geo.shape
+    ox, oy = geo.origin
+    # Only the cells of the tolerance's bounding box, clipped to the grid: bounded work.
+    c0 = max(int(np.floor((goal[0] - tolerance - ox) / res)), 0)
+    c1 = min(int(np.floor((goal[0] + tolerance - ox) / res)) + 1, cols)
+    r0 = max(int(np.floor((goal[1] - tolerance - oy) / res)), 0)
+    r1 = min(int(np.floor((goal[1] + tolerance - oy) / res)) + 1, rows)
+    if r0 >= r1 or c0 >= c1:
+        return None
+    rr, cc = np.mgrid[r0:r1, c0:c1]
+    d = np.hypot(ox + (cc + 0.5) * res - goal[0], oy + (rr + 0.5) * res - goal[1])
+    reached = np.isfinite(dist.reshape(rows, cols)[r0:r1, c0:c1]) & (d <= tolerance)
+    if allowed is not None:
+        reached &= allowed[r0:r1, c0:c1]
+    if not reached.any():
+        return None
+    k = int(np.argmin(np.where(reached, d, np.inf)))
+    return int(rr.reshape(-1)[k] * cols + cc.reshape(-1)[k])
 
 
 def nearest_free(

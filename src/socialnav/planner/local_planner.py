@@ -28,6 +28,7 @@ import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from enum import StrEnum
+from typing import Protocol
 
 import numpy as np
 
@@ -36,6 +37,7 @@ from socialnav.core.geometry import FloatArray, wrap_angle
 from socialnav.core.robot import RobotModel
 from socialnav.core.trajectories import Trajectories
 from socialnav.moo.selection import Selection, SelectionStrategy
+from socialnav.planner import kernels
 from socialnav.planner.context import PlanningContext
 from socialnav.planner.critics.base import CriticUnavailable
 from socialnav.planner.critics.goal_distance import GoalDistanceCritic
@@ -60,6 +62,8 @@ class PlannerStatus(StrEnum):
     INVALID_INPUT = "INVALID_INPUT"
     NO_PATH = "NO_PATH"
     CRITIC_UNAVAILABLE = "CRITIC_UNAVAILABLE"
+    WAITING = "WAITING"
+    EVADING = "EVADING"
 
 
 @dataclass(frozen=True)
@@ -229,6 +233,20 @@ def _valid_inputs(ctx: PlanningContext) -> str:
     return ""
 
 
+class ObjectiveSet(Protocol):
+    """The objective set of one cycle, resolved from what is in view (people, groups, queues,
+    artworks, social goal): ``resolve(ctx) -> (objectives, selection)``; the same instances
+    are returned while the set is unchanged, so critic and selection state persists."""
+
+    def resolve(self, ctx: PlanningContext) -> tuple[Sequence[Objective], SelectionStrategy]:
+        """The objectives and selection strategy for this cycle's scene (``ctx.social``)."""
+        ...
+
+    def reset(self) -> None:
+        """Reset the state of every critic of every objective set kept so far."""
+        ...
+
+
 @dataclass
 class _Cycle:
     timing: dict[str, float] = field(default_factory=dict)
@@ -247,8 +265,10 @@ class LocalPlanner:
         objectives: Sequence[Objective],
         selection: SelectionStrategy,
         params: LocalPlannerParams | None = None,
+        objective_set: ObjectiveSet | None = None,
     ) -> None:
         self.robot = robot
+        self.objective_set = objective_set
         self.objectives = tuple(objectives)
         if not self.objectives or not all(isinstance(o, Objective) for o in self.objectives):
             raise ConfigurationError("objectives must be a non-empty sequence of Objective")
@@ -259,17 +279,22 @@ class LocalPlanner:
         self._oscillation = OscillationGuard(
             self.params.oscillation_reset_dist, self.params.oscillation_reset_angle
         )
+        if kernels.enabled():
+            kernels.warmup()  # compile (or load) now, never inside the first control step
         self.reset()
 
     def reset(self) -> None:
         """Forget the per-episode state."""
         self._latched = False
+        self._latch_radius = 0.0
         self._rotating = False
         self._goal: FloatArray | None = None
         self._oscillation.reset()
         for obj in self.objectives:
             for critic, _ in obj.terms:
                 critic.reset()
+        if self.objective_set is not None:
+            self.objective_set.reset()
 
     # ---- public ---------------------------------------------------------------------------
     def plan(self, ctx: PlanningContext, record: bool = False) -> PlannerResult:
@@ -284,10 +309,19 @@ class LocalPlanner:
             return self._result(
                 ctx, _zero(), PlannerStatus.NO_PATH, "empty global plan", record, None, start
             )
+        if self.objective_set is not None:
+            objectives, selection = self.objective_set.resolve(ctx)
+            self.objectives, self.selection = tuple(objectives), selection
         cycle = _Cycle()
         self._track_goal(ctx.goal)
         xy_tol, yaw_tol = self._tolerances(ctx)
         dist = float(np.hypot(*(ctx.goal[:2] - ctx.pose[:2])))
+        if self._latched and dist > self._latch_radius:
+            # Moved beyond the tolerance (pushed, or backed up by a recovery): not at the goal.
+            self._latched = self._rotating = False
+        if not self._latched and dist <= xy_tol:
+            # The latch holds while the robot brakes: tolerance + braking distance, at least 2×.
+            self._latch_radius = max(2.0 * xy_tol, xy_tol + self._stopping_distance(ctx))
         if self._latched or dist <= xy_tol:
             self._latched = self.params.latch_xy_goal_tolerance
         else:
@@ -310,6 +344,15 @@ class LocalPlanner:
             self._latched = False
             self._rotating = False
             self._oscillation.reset()
+
+    def _stopping_distance(self, ctx: PlanningContext) -> float:
+        """Braking distance (m) from the measured speed at the acceleration limits, plus one
+        control period of travel: how far a latched robot may still overshoot."""
+        v = np.asarray(ctx.velocity, dtype=float)
+        r, dt = self.robot, self.params.controller_period
+        speed = float(np.hypot(v[0], v[1]))
+        acc = max(min(r.acc_lim_x, r.acc_lim_y) if r.holonomic else r.acc_lim_x, 1e-6)
+        return speed * speed / (2.0 * acc) + speed * dt + 1e-6
 
     def _tolerances(self, ctx: PlanningContext) -> tuple[float, float]:
         sg = ctx.social_goal
@@ -339,7 +382,8 @@ class LocalPlanner:
         w = min(w, float(np.sqrt(2.0 * r.acc_lim_theta * abs(err))))
         cmd = np.array([0.0, 0.0, np.copysign(w, err)])
         twists = cmd[None]
-        ctx.extras.setdefault("reach", 2.0 * ctx.costmap.resolution)
+        if ctx.cache.reach is None:
+            ctx.cache.reach = 2.0 * ctx.costmap.resolution
         trajs = rollout(ctx.pose, ctx.velocity, twists, r, p)
         try:
             ev = evaluate(self.objectives, trajs, ctx)
@@ -363,7 +407,8 @@ class LocalPlanner:
         if twists.shape[0] == 0:
             return PlannerStatus.NO_LEGAL_TRAJECTORY, _zero(), "no velocity samples", None
         reach = float(np.hypot(twists[:, 0], twists[:, 1]).max()) * p.sim_time
-        ctx.extras.setdefault("reach", reach + 2.0 * ctx.costmap.resolution)
+        if ctx.cache.reach is None:
+            ctx.cache.reach = reach + 2.0 * ctx.costmap.resolution
         trajs = rollout(
             ctx.pose, ctx.velocity, twists, self.robot, p, dtype=np.dtype(p.rollout_dtype).type
         )

@@ -8,35 +8,51 @@ Decisions:
   (``is_waypoint``) is driven to first; once the robot is within its ``position_tolerance``
   (at least the planner's ``xy_goal_tolerance``) it is remembered as passed and the given goal
   becomes the target again.
-- Replans every ``replan_period`` s and whenever the target moves by more than 5 cm / 0.05 rad.
-  When the global planner fails, the previous plan to the same target is kept; failing that, a
-  straight line to the target is used when ``straight_line_fallback`` (the local critics still
-  judge it; recoveries handle dead ends), else the status is ``NO_PATH``.
+- One resolved target everywhere: a target inside an obstacle (or not reachable) is replaced by
+  the nearest point *reachable from the robot* within ``goal_tolerance`` on the static map
+  (navfn ``default_tolerance``); without one, ``NO_PATH`` "goal unreachable" at once, never a
+  drive toward it. The global plan, the local planner's goal check and progress check all use
+  :attr:`resolved_goal` (also what a caller should measure success against). People are not
+  part of that decision: a plan blocked only by people keeps the static plan, and the local
+  planner waits (``WAITING``) for them to move.
+- Replans every ``replan_period`` s (clock of :class:`~socialnav.planner.limits.CycleClock`: a
+  timestamp jumping forward or back cannot stop periodic replanning), whenever the target
+  moves by more than 5 cm / 0.05 rad, at once when the pose is more than ``max_path_deviation``
+  m off the plan (a relocalization), and every ``waiting_replan_period`` s while ``WAITING``.
 - The plan is pruned behind the robot: it starts at the plan vertex nearest the robot among the
   next ``prune_lookahead`` m of the plan (so a plan looping back is not skipped ahead).
 - The local window is ``window_size`` m square around the robot (``world.costmap.crop``; off-map
-  cells read UNKNOWN).
-- ``step`` never raises: bad input gives ``INVALID_INPUT``, any internal failure too (with the
-  exception text in ``message``).
+  cells read UNKNOWN). The local planner sees the people within ``people_range`` m of the robot
+  (farther ones cannot reach the window within a rollout; groups and queues keep the members
+  in view); the global layers see the people on the map.
+- Every command of every status is within the robot's velocity box and acceleration window
+  (:func:`~socialnav.planner.limits.enforce_limits`; zero commands therefore decelerate).
+- ``step`` never raises: invalid input gives ``INVALID_INPUT`` naming the field, any internal
+  failure too (with the exception text in ``message``). No input changes the navigator's state
+  unless it is valid.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable
+from dataclasses import replace
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
+from scipy.ndimage import distance_transform_edt
 
 from socialnav.core.geometry import FloatArray, wrap_angle
 from socialnav.core.robot import RobotModel
 from socialnav.core.scene import SocialContext
 from socialnav.planner.context import PlanningContext
-from socialnav.planner.global_planner import nearest_free, plan_path
+from socialnav.planner.global_planner import plan_path
+from socialnav.planner.limits import CycleClock, enforce_limits
 from socialnav.planner.local_planner import PlannerResult, PlannerStatus
 from socialnav.planner.protocols import LocalPlannerProtocol
 from socialnav.social.goals import SocialGoal
 from socialnav.world.costmap import add_obstacle_discs, crop
-from socialnav.world.grid import Costmap
+from socialnav.world.grid import INSCRIBED, LETHAL, Costmap
 
 #: (people and structures, given goal (3,), robot pose (3,)) -> the social goal or None
 SocialGoalFn = Callable[[SocialContext, FloatArray, FloatArray], SocialGoal | None]
@@ -66,14 +82,24 @@ class Navigator:
         people_as_obstacles: bool = True,
         global_layer: CostmapLayer | None = None,
         goal_tolerance: float = 1.0,
+        controller_period: float | None = None,
+        max_path_deviation: float = 1.0,
+        waiting_replan_period: float = 1.0,
+        people_range: float | None = None,
     ) -> None:
         g = np.asarray(goal, dtype=float)
         if g.shape != (3,) or not np.all(np.isfinite(g)):
             raise ValueError(f"goal must be a finite (x, y, yaw), got {goal!r}")
-        if not (np.isfinite(replan_period) and replan_period > 0):
-            raise ValueError("replan_period must be positive")
-        if not (np.isfinite(window_size) and window_size > 0):
-            raise ValueError("window_size must be positive")
+        for name, value in (
+            ("replan_period", replan_period),
+            ("window_size", window_size),
+            ("max_path_deviation", max_path_deviation),
+            ("waiting_replan_period", waiting_replan_period),
+        ):
+            if not (np.isfinite(value) and value > 0):
+                raise ValueError(f"{name} must be positive")
+        if not (np.isfinite(goal_tolerance) and goal_tolerance >= 0):
+            raise ValueError("goal_tolerance must be finite and >= 0")
         self.robot = robot
         self.local_planner = local_planner
         self.costmap = costmap
@@ -89,24 +115,73 @@ class Navigator:
         self.people_as_obstacles = people_as_obstacles
         self.global_layer = global_layer
         self.goal_tolerance = float(goal_tolerance)
+        if controller_period is None:
+            params = getattr(local_planner, "params", None)
+            inner = getattr(local_planner, "planner", None)
+            params = getattr(inner, "params", params) if inner is not None else params
+            controller_period = float(getattr(params, "controller_period", 0.1))
+        self.controller_period = float(controller_period)
+        self.max_path_deviation = float(max_path_deviation)
+        self.waiting_replan_period = float(waiting_replan_period)
+        # People farther than this cannot touch the window's rollouts: half the window's
+        # diagonal plus 5 m of walking.
+        self.people_range = (
+            float(people_range) if people_range is not None else self.window_size * 0.75 + 5.0
+        )
+        geo = costmap.geometry
+        self._bounds = (
+            geo.origin[0],
+            geo.origin[1],
+            geo.origin[0] + geo.shape[1] * geo.resolution,
+            geo.origin[1] + geo.shape[0] * geo.resolution,
+        )
+        # Substitute goals need room for the footprint in any orientation (circumscribed
+        # radius from every LETHAL/UNKNOWN cell), so the robot can actually stop there.
+        free = costmap.costs < LETHAL
+        room = distance_transform_edt(free) * geo.resolution if not free.all() else None
+        self._roomy = (
+            None if room is None else room >= robot.circumscribed_radius + 0.5 * geo.resolution
+        )
+        self._clock = CycleClock()
         self.reset()
 
     def reset(self) -> None:
         """Forget the plan, latches and passed waypoints (a new episode)."""
         self.local_planner.reset()
+        self._clock.reset()
         self._path: FloatArray | None = None
         self._path_target: FloatArray | None = None
         self._plan_time = -np.inf
         self._passed_waypoints: list[FloatArray] = []
+        self._waiting = False
+        self._resolved: dict[tuple[float, float], FloatArray | None] = {}
+        self.resolved_goal: FloatArray | None = None
         self.last_plan_status = ""
 
     # ---- public ---------------------------------------------------------------------------
     def step(
         self, time: float, pose: ArrayLike, velocity: ArrayLike, social: SocialContext
     ) -> PlannerResult:
-        """The body twist for ``pose (3,)``, ``velocity (3,)`` at ``time`` (s); never raises."""
+        """One control cycle: the body twist ``cmd (3,)`` (m/s, rad/s) and a status.
+
+        Valid input: ``time`` a finite float (s; it may repeat or go backwards, see the module
+        docstring); ``pose (3,)`` finite world ``(x, y, yaw)`` (m, rad) inside the costmap's
+        bounds; ``velocity (3,)`` the finite measured body twist (any magnitude: the command is
+        brought within the limits); ``social`` a :class:`SocialContext` (people anywhere,
+        any finite velocities). Anything else returns ``INVALID_INPUT`` with a message naming
+        the field, a stopping command, and leaves the navigator's state untouched.
+        """
         try:
-            return self._step(float(time), pose, velocity, social)
+            t = float(time)
+            problem = self._invalid(t, pose, velocity, social)
+            if problem:
+                return self._limited(
+                    PlannerResult(np.zeros(3), PlannerStatus.INVALID_INPUT, None, problem),
+                    velocity,
+                )
+            result = self._step(t, np.asarray(pose, float), np.asarray(velocity, float), social)
+            self._waiting = result.status == PlannerStatus.WAITING
+            return self._limited(result, velocity)
         except Exception as exc:  # the control loop must survive anything
             return PlannerResult(
                 np.zeros(3), PlannerStatus.INVALID_INPUT, None, f"{type(exc).__name__}: {exc}"
@@ -119,45 +194,68 @@ class Navigator:
         return self._path
 
     # ---- internals ------------------------------------------------------------------------
-    def _step(
-        self, time: float, pose_in: ArrayLike, vel_in: ArrayLike, social: SocialContext
-    ) -> PlannerResult:
+    def _invalid(self, time: float, pose_in: Any, vel_in: Any, social: Any) -> str:
+        if not np.isfinite(time):
+            return f"time must be finite, got {time!r}"
         pose = np.asarray(pose_in, dtype=float)
         velocity = np.asarray(vel_in, dtype=float)
-        if (
-            pose.shape != (3,)
-            or velocity.shape != (3,)
-            or not np.isfinite(time)
-            or not np.all(np.isfinite(pose))
-            or not np.all(np.isfinite(velocity))
-        ):
-            return PlannerResult(
-                np.zeros(3),
-                PlannerStatus.INVALID_INPUT,
-                None,
-                "pose, velocity and time must be finite; pose/velocity (3,)",
+        if pose.shape != (3,) or not np.all(np.isfinite(pose)):
+            return f"pose must be a finite (3,) array (x, y, yaw), got {pose_in!r}"
+        if velocity.shape != (3,) or not np.all(np.isfinite(velocity)):
+            return f"velocity must be a finite (3,) body twist, got {vel_in!r}"
+        x0, y0, x1, y1 = self._bounds
+        if not (x0 <= pose[0] <= x1 and y0 <= pose[1] <= y1):
+            return (
+                f"pose ({pose[0]:.6g}, {pose[1]:.6g}) m is outside the map "
+                f"[{x0:.6g}, {x1:.6g}] × [{y0:.6g}, {y1:.6g}]"
             )
+        if not isinstance(social, SocialContext):
+            return f"social must be a SocialContext, got {type(social).__name__}"
+        return ""
+
+    def _limited(self, result: PlannerResult, velocity: Any) -> PlannerResult:
+        v = np.asarray(velocity, dtype=float)
+        v = v if v.shape == (3,) else np.zeros(3)
+        cmd = enforce_limits(result.cmd, v, self.robot, self.controller_period)
+        if np.array_equal(cmd, result.cmd):
+            return result
+        return replace(result, cmd=cmd)
+
+    def _step(
+        self, time: float, pose: FloatArray, velocity: FloatArray, social: SocialContext
+    ) -> PlannerResult:
+        now = self._clock.tick(time)
         social_goal = self._social_goal(social, pose)
         target = self._target(social_goal, pose)
         if target is self.goal:
             social_goal = None  # a passed waypoint no longer pulls the robot back
-        path = self._global_path(time, pose, target, social)
+        resolved = self._resolve(target, pose)
+        if resolved is None:
+            self.resolved_goal = None
+            why = (
+                "goal unreachable: no point reachable from the robot within "
+                f"{self.goal_tolerance} m"
+            )
+            return PlannerResult(np.zeros(3), PlannerStatus.NO_PATH, None, why)
+        self.resolved_goal = resolved
+        path = self._global_path(now, pose, resolved, social)
         if path is None:
             return PlannerResult(
                 np.zeros(3), PlannerStatus.NO_PATH, None, f"global planner: {self.last_plan_status}"
             )
+        local_social = social.within(pose[:2], self.people_range)
         local = crop(self.costmap, pose[:2], self.window_size)
-        local = self._with_people(local, social)
+        local = self._with_people(local, local_social)
         if self.costmap_layer is not None:
-            local = self.costmap_layer(local, social)
+            local = self.costmap_layer(local, local_social)
         ctx = PlanningContext(
             pose=pose,
             velocity=velocity,
-            goal=target,
+            goal=resolved,
             global_path=path,
             costmap=local,
             robot=self.robot,
-            social=social,
+            social=local_social,
             social_goal=social_goal,
             predict_people=self.predict_people,
             time=time,
@@ -183,6 +281,40 @@ class Navigator:
             return self.goal
         return sg_pose
 
+    def _resolve(self, target: FloatArray, pose: FloatArray) -> FloatArray | None:
+        """The target, or its reachable substitute on the static map (cached per target and
+        the robot's connected region; module docstring)."""
+        geo = self.costmap.geometry
+        cell = geo.world_to_cell(target[:2])
+        row, col = int(cell[0]), int(cell[1])
+        free_target = bool(geo.in_bounds(cell)) and int(self.costmap.costs[row, col]) < INSCRIBED
+        key = (round(float(target[0]), 3), round(float(target[1]), 3))
+        if key in self._resolved:
+            hit = self._resolved[key]
+            if hit is None or np.array_equal(hit[:2], target[:2]):
+                return None if hit is None else target
+            return np.array([hit[0], hit[1], target[2]])
+        plan = plan_path(
+            self.costmap,
+            pose[:2],
+            target[:2],
+            tolerance=self.goal_tolerance,
+            substitutes=self._roomy,
+        )
+        if plan.status != "OK" or plan.goal is None:
+            if plan.status == "START_BLOCKED":
+                return target  # the robot's cell is an obstacle: no verdict on the goal
+            self._resolved[key] = None
+            return None
+        if free_target and np.allclose(plan.goal, target[:2]):
+            out = target
+        else:
+            out = np.array([plan.goal[0], plan.goal[1], target[2]])
+        if len(self._resolved) > 64:
+            self._resolved.clear()
+        self._resolved[key] = out
+        return out
+
     def _with_people(self, costmap: Costmap, social: SocialContext) -> Costmap:
         """People as obstacles, as a laser-fed obstacle layer shows them to every planner."""
         if not (self.people_as_obstacles and social.people):
@@ -190,28 +322,63 @@ class Navigator:
         discs = np.column_stack([social.positions(), social.radii()])
         return add_obstacle_discs(costmap, discs, self.robot.inscribed_radius)
 
+    def _on_map(self, social: SocialContext) -> SocialContext:
+        """The people on the map (1 m margin): the only ones a global layer can draw."""
+        x0, y0, x1, y1 = self._bounds
+        center = np.array([(x0 + x1) / 2, (y0 + y1) / 2])
+        return social.within(center, float(np.hypot(x1 - x0, y1 - y0)) / 2 + 1.0)
+
+    def _off_plan(self, pose: FloatArray) -> bool:
+        path = self._path
+        if path is None or path.shape[0] == 0:
+            return False
+        if path.shape[0] == 1:
+            return bool(np.hypot(*(path[0] - pose[:2])) > self.max_path_deviation)
+        a, b = path[:-1], path[1:]
+        ab = b - a
+        denom = np.maximum((ab * ab).sum(axis=1), 1e-12)
+        s = np.clip(((pose[:2] - a) * ab).sum(axis=1) / denom, 0.0, 1.0)
+        d = np.hypot(*(a + s[:, None] * ab - pose[:2]).T)
+        return bool(d.min() > self.max_path_deviation)
+
     def _global_path(
-        self, time: float, pose: FloatArray, target: FloatArray, social: SocialContext
+        self, now: float, pose: FloatArray, target: FloatArray, social: SocialContext
     ) -> FloatArray | None:
         changed = self._path_target is None or (
             np.hypot(*(target[:2] - self._path_target[:2])) > 0.05
             or abs(float(wrap_angle(target[2] - self._path_target[2]))) > 0.05
         )
-        if changed or time - self._plan_time >= self.replan_period or self._path is None:
-            costmap = self._with_people(self.costmap, social)
+        age = now - self._plan_time
+        off_plan = self._off_plan(pose)
+        due = (
+            changed
+            or self._path is None
+            or age >= self.replan_period
+            or (self._waiting and age >= self.waiting_replan_period)
+            or off_plan
+        )
+        if due:
+            on_map = self._on_map(social)
+            costmap = self._with_people(self.costmap, on_map)
             if self.global_layer is not None:
-                costmap = self.global_layer(costmap, social)
-            plan = plan_path(costmap, pose[:2], target[:2])
-            if plan.status == "GOAL_BLOCKED" and self.goal_tolerance > 0:
-                # navfn default_tolerance: plan to the nearest free point instead
-                substitute = nearest_free(costmap, target[:2], self.goal_tolerance)
-                if substitute is not None:
-                    plan = plan_path(costmap, pose[:2], substitute)
+                costmap = self.global_layer(costmap, on_map)
+            plan = plan_path(
+                costmap, pose[:2], target[:2], tolerance=0.5 * self.robot.circumscribed_radius
+            )
+            if (
+                plan.status != "OK"
+                and costmap is not self.costmap
+                and (changed or self._path is None)
+            ):
+                # Blocked only by people: follow the static plan; the local planner waits.
+                # (With a plan to this target already, it is kept below.)
+                static = plan_path(self.costmap, pose[:2], target[:2])
+                plan = static if static.status == "OK" else plan
             self.last_plan_status = plan.status
-            self._plan_time = time
+            self._plan_time = now
             if plan.path is not None and plan.path.shape[0] > 0:
                 self._path = np.asarray(plan.path, dtype=float)
-            elif changed or self._path is None:
+            elif changed or self._path is None or off_plan:
                 self._path = (
                     np.stack([pose[:2], target[:2]]) if self.straight_line_fallback else None
                 )

@@ -20,6 +20,7 @@ import numpy as np
 from socialnav.core.errors import ConfigurationError
 from socialnav.core.geometry import FloatArray
 from socialnav.core.trajectories import Trajectories
+from socialnav.planner.cache import CycleCache
 from socialnav.planner.context import PlanningContext
 from socialnav.planner.critics.base import Critic
 
@@ -74,26 +75,84 @@ def critic_keys(objectives: Sequence[Objective]) -> dict[Critic, str]:
     return keys
 
 
+class PreparedReuse:
+    """The last ``size`` cycles' prepared map grids (BFS grids, occupancy masks, densified plan),
+    handed to a later cycle whose inputs are identical byte for byte — the critics, the
+    costmap's costs and geometry, the robot's footprint, pose, goal, plan, the planner's reach
+    and which kernel path is active — so the values are exactly those a fresh preparation would
+    give (a robot waiting in a static window pays for its grids once)."""
+
+    def __init__(self, size: int = 4) -> None:
+        self.size = size
+        self._entries: list[tuple[tuple[object, ...], CycleCache]] = []  # newest last
+
+    @staticmethod
+    def key(ctx: PlanningContext, critics: tuple[Critic, ...]) -> tuple[object, ...]:
+        """Everything the reusable entries depend on, as an exactly comparable tuple."""
+        from socialnav.planner import kernels
+
+        geom = ctx.costmap.geometry
+        return (
+            critics,  # frozen dataclasses: equal when their parameters are
+            ctx.costmap.costs.tobytes(),
+            tuple(geom.shape),
+            float(geom.resolution),
+            tuple(map(float, geom.origin)),
+            np.asarray(ctx.robot.polygon, dtype=float).tobytes(),
+            float(ctx.robot.inscribed_radius),
+            np.asarray(ctx.pose, dtype=float).tobytes(),
+            np.asarray(ctx.goal, dtype=float).tobytes(),
+            np.asarray(ctx.global_path, dtype=float).tobytes(),
+            ctx.cache.reach,
+            kernels.enabled(),
+        )
+
+    def restore(self, ctx: PlanningContext, critics: tuple[Critic, ...]) -> tuple[object, ...]:
+        """Fill ``ctx.cache`` from an entry with this cycle's key (if any); returns the key."""
+        key = self.key(ctx, critics)
+        for k, (entry_key, data) in enumerate(self._entries):
+            if entry_key == key:
+                ctx.cache.fill(data)
+                self._entries.append(self._entries.pop(k))
+                break
+        return key
+
+    def keep(self, key: tuple[object, ...], ctx: PlanningContext) -> None:
+        """Remember this cycle's reusable ``ctx.cache`` fields
+        (:data:`~socialnav.planner.cache.REUSABLE`) under ``key``."""
+        if self.size <= 0:  # reuse switched off
+            return
+        data = ctx.cache.reusable()
+        self._entries = [e for e in self._entries if e[0] != key][-(self.size - 1) :]
+        self._entries.append((key, data))
+
+
+_REUSE = PreparedReuse()
+
+
 def prepare(
     objectives: Sequence[Objective], ctx: PlanningContext, timing: dict[str, float] | None = None
 ) -> None:
-    """Run every distinct critic's ``prepare`` once; propagates ``CriticUnavailable``."""
-    for critic, key in critic_keys(objectives).items():
+    """Run every distinct critic's ``prepare`` once (after restoring the previous cycle's
+    prepared grids when their inputs are identical, :class:`PreparedReuse`); propagates
+    ``CriticUnavailable``."""
+    keys = critic_keys(objectives)
+    key = _REUSE.restore(ctx, tuple(keys))
+    for critic, name in keys.items():
         start = time.perf_counter()
         critic.prepare(ctx)
         if timing is not None:
-            timing[f"prepare:{key}"] = time.perf_counter() - start
+            timing[f"prepare:{name}"] = time.perf_counter() - start
+    _REUSE.keep(key, ctx)
 
 
 def evaluate(
     objectives: Sequence[Objective],
     trajs: Trajectories,
     ctx: PlanningContext,
-    extra_illegal: dict[tuple[str, str], np.ndarray] | None = None,
 ) -> Evaluation:
     """Score ``trajs`` with every objective. Calls :func:`prepare` first (critics make it
-    idempotent within a cycle). ``extra_illegal`` adds masks from outside the critics (e.g. the
-    oscillation guard), keyed ``(source, reason)``. May raise ``CriticUnavailable``."""
+    idempotent within a cycle). May raise ``CriticUnavailable``."""
     timing: dict[str, float] = {}
     prepare(objectives, ctx, timing)
     n = len(trajs)
@@ -109,9 +168,6 @@ def evaluate(
         for reason, mask in result.illegal.items():
             rejected[(key, reason)] = int(np.count_nonzero(mask))
             legal &= ~np.asarray(mask, dtype=bool)
-    for (source, reason), mask in (extra_illegal or {}).items():
-        rejected[(source, reason)] = int(np.count_nonzero(mask & legal))
-        legal &= ~mask
     # Critics promise finite costs on legal rows; a non-finite one is treated as illegal.
     F = np.zeros((n, len(objectives)))
     for j, obj in enumerate(objectives):

@@ -33,12 +33,14 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from socialnav.core.errors import ConfigurationError
 from socialnav.core.registry import Registry
 from socialnav.core.robot import RobotModel
 from socialnav.core.scene import SocialContext
 from socialnav.moo.paccet import PaccetOptions
 from socialnav.moo.scalarize import L1Target, Weighted
 from socialnav.moo.selection import PaccetSelection, SelectionStrategy, WeightedSum
+from socialnav.planner.context import PlanningContext
 from socialnav.planner.critics.activity_space import ActivitySpaceCritic
 from socialnav.planner.critics.group import GroupCritic
 from socialnav.planner.critics.interpersonal import InterpersonalCritic
@@ -50,7 +52,7 @@ from socialnav.planner.local_planner import (
 )
 from socialnav.planner.navigator import CostmapLayer, Navigator
 from socialnav.planner.objectives import Objective
-from socialnav.planner.recovery import RecoveringPlanner
+from socialnav.planner.recovery import RecoveringPlanner, RecoveryParams
 from socialnav.social.goals import SocialGoal
 from socialnav.world.grid import Costmap
 
@@ -80,6 +82,7 @@ class PlannerPreset:
     predict_people: bool = True
     params: LocalPlannerParams = field(default_factory=LocalPlannerParams)
     order: int = 1000
+    recovery: RecoveryParams = field(default_factory=RecoveryParams)
 
 
 PRESETS: Registry[PlannerPreset] = Registry("planner preset")
@@ -259,16 +262,53 @@ class StickySocialGoal:
         return self._goal
 
 
+class SceneObjectives:
+    """A preset's objective set, resolved every cycle from the people, groups, queues and
+    artworks in view (``ctx.social``): people appearing add their objectives, people leaving
+    remove them. One (objectives, selection) pair is kept per set of objective names, so a
+    navigator built with nobody in view plans exactly like one built with the people present.
+    """
+
+    def __init__(self, preset: PlannerPreset, params: LocalPlannerParams) -> None:
+        self.preset = preset
+        self.params = params
+        self._sets: dict[tuple[str, ...], tuple[tuple[Objective, ...], SelectionStrategy]] = {}
+
+    def for_scene(self, social: SocialContext) -> tuple[tuple[Objective, ...], SelectionStrategy]:
+        """The (objectives, selection) of the preset for the people and structures in
+        ``social``, the same instances each time the set of objective names repeats."""
+        preset = self.preset
+        pairs = preset.objectives(
+            social, preset.social_goal and has_social_goal(social), self.params
+        )
+        key = tuple(o.name for o, _ in pairs)
+        if key not in self._sets:
+            objectives = tuple(o for o, _ in pairs)
+            self._sets[key] = (objectives, preset.selection([w for _, w in pairs]))
+        return self._sets[key]
+
+    def resolve(self, ctx: PlanningContext) -> tuple[tuple[Objective, ...], SelectionStrategy]:
+        """:meth:`for_scene` of the cycle's ``ctx.social`` (the people in view)."""
+        return self.for_scene(ctx.social)
+
+    def reset(self) -> None:
+        """Reset the state of every critic of every objective set kept so far."""
+        for objectives, _ in self._sets.values():
+            for obj in objectives:
+                for critic, _ in obj.terms:
+                    critic.reset()
+
+
 def build_local_planner(
     name: str, robot: RobotModel, social: SocialContext, params: LocalPlannerParams | None = None
 ) -> LocalPlanner:
-    """The local planner of preset ``name`` for a scene like ``social``."""
+    """The local planner of preset ``name``; its objective set follows the scene every cycle
+    (:class:`SceneObjectives`), starting from the one for ``social``."""
     preset = PRESETS.get(name)
     p = params or preset.params
-    pairs = preset.objectives(social, preset.social_goal and has_social_goal(social), p)
-    objectives = tuple(o for o, _ in pairs)
-    selection = preset.selection([w for _, w in pairs])
-    return LocalPlanner(robot, objectives, selection, p)
+    scene = SceneObjectives(preset, p)
+    objectives, selection = scene.for_scene(social)
+    return LocalPlanner(robot, objectives, selection, p, objective_set=scene)
 
 
 def build_navigator(
@@ -279,10 +319,26 @@ def build_navigator(
     social: SocialContext,
     record: bool = False,
     params: LocalPlannerParams | None = None,
+    recovery: RecoveryParams | None = None,
+    default_tolerance: float = 1.0,
+    planner_frequency: float = 0.5,
 ) -> Navigator:
-    """The stack of preset ``name``: global plan, local planner with recoveries, social goal."""
+    """The stack of preset ``name``: global plan, local planner with recoveries, social goal.
+
+    ROS-named options: ``params`` (``dwa_local_planner``), ``recovery`` (progress checker
+    ``required_movement_radius``/``movement_time_allowance``, ``controller_patience``, waiting
+    and evasion; :class:`~socialnav.planner.recovery.RecoveryParams`; default the preset's),
+    ``default_tolerance`` (m, navfn: how far a blocked goal may move to a reachable point) and
+    ``planner_frequency`` (Hz, move_base: periodic global replanning). The objective set follows
+    the people in view every cycle (:class:`SceneObjectives`); ``social`` only seeds it.
+    Raises ``ConfigurationError`` on an unknown preset or a non-positive ``planner_frequency``.
+    """
     preset = PRESETS.get(name)
-    local = RecoveringPlanner(build_local_planner(name, robot, social, params))
+    if not (np.isfinite(planner_frequency) and planner_frequency > 0):
+        raise ConfigurationError(f"planner_frequency must be positive, got {planner_frequency}")
+    local = RecoveringPlanner(
+        build_local_planner(name, robot, social, params), recovery or preset.recovery
+    )
     layer: CostmapLayer | None = None
     if preset.proxemic_layer:
         from socialnav.world.costmap import combine_max
@@ -308,6 +364,8 @@ def build_navigator(
         costmap_layer=layer,
         global_layer=global_layer,
         window_size=LOCAL_WINDOW,
+        goal_tolerance=default_tolerance,
+        replan_period=1.0 / planner_frequency,
     )
 
 

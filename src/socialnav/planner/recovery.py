@@ -1,42 +1,75 @@
-"""Recovery behaviours and a progress checker around a local planner (move_base / Nav2 style).
+"""The control loop's behaviours around a local planner: progress, waiting, evasion, recoveries.
 
 The paper (Banisetty et al.) runs the ROS navigation stack, whose ``move_base`` recoveries and
-``base_local_planner`` escape (back up at -0.1 m/s) take over when no trajectory is legal. This is
-a planner wrapper with the same ``plan(ctx, record)`` / ``reset()`` signature.
+``base_local_planner`` escape (back up at -0.1 m/s) take over when no trajectory is legal; Nav2
+adds a progress checker and a "give up" that the behaviour tree reports. This is a planner
+wrapper with the same ``plan(ctx, record)`` / ``reset()`` signature. People are temporary
+obstacles: nothing here is final, every cycle evaluates the wrapped planner again.
 
-Behaviour (parameters in :class:`RecoveryParams`):
-- When the wrapped planner returns ``NO_LEGAL_TRAJECTORY``, a recovery starts: (1) rotate in place
-  toward the freest direction — the heading, among ``num_headings``, whose ray from the robot stays
-  clear of INSCRIBED/LETHAL/UNKNOWN cells the longest (up to ``clearance_range``); (2) back up at
-  ``backup_speed`` for ``backup_distance`` instead when the free space is behind, when the robot
-  already faces the freest ray, or when turning is unsafe. Each command is first checked for
-  footprint collision over its own rollout (one sample, the occupancy critic); an unsafe step
-  is skipped. Afterwards the wrapped planner gets control back. Status ``RECOVERING``.
-- ``STUCK`` (latched until ``reset`` or a new goal, zero command) when the robot has not moved
-  ``progress_radius`` m within ``progress_time`` s (Nav2 SimpleProgressChecker, with 0.25 m / 10 s
-  defaults), or after ``max_recoveries`` recoveries without an ``OK`` cycle in between.
-  Goal-reached and rotate-to-goal cycles count as progress.
+Behaviour (parameters in :class:`RecoveryParams`, ROS/Nav2 names, budgets in seconds of
+:class:`~socialnav.planner.limits.CycleClock` time):
+
+- **Progress** (Nav2 ``SimpleProgressChecker``): the robot must move ``required_movement_radius``
+  m within ``movement_time_allowance`` s. Only translation counts, so recovery steps that do not
+  move (rotations, blocked back-ups) are not progress. At-goal statuses (``GOAL_REACHED``,
+  ``ROTATING_TO_GOAL``) are progress.
+- **Evasion** (status ``EVADING``): when a person's time to collision with the robot, both at
+  constant velocity (the robot at the planner's chosen command), is below ``evasion_ttc`` s and
+  the person walks faster than ``evasion_min_person_speed``, the robot takes the evasive twist
+  of :mod:`socialnav.planner.evasion` that keeps the largest gap over ``evasion_horizon`` s —
+  when it keeps a larger gap than the planner's own command.
+- **Waiting** (status ``WAITING``, zero command; the navigator decelerates it within the
+  acceleration limits and replans): when no trajectory is legal, or the legal ones make no
+  progress, and a person blocks: within ``person_blocking_distance`` m (footprint circle to
+  person disc) of the robot, or standing on the next ``person_blocking_lookahead`` m of the
+  global plan (their disc within the robot's circumscribed radius of it). No recovery runs
+  then, so the robot never backs into someone.
+- **Recoveries** (status ``RECOVERING``) otherwise, up to ``max_recoveries`` in a row: (1) rotate
+  in place toward the freest direction — the heading, among ``num_headings``, whose ray from
+  the robot stays clear of INSCRIBED/LETHAL/UNKNOWN cells the longest (up to
+  ``clearance_range``); (2) back up at ``backup_speed`` for ``backup_distance`` instead when the
+  free space is behind, when the robot already faces the freest ray, or when turning is unsafe.
+  Each command is checked for footprint collision over its own rollout; an unsafe step ends it.
+- **Give up** (status ``STUCK`` with the reason in ``message``) when there was no progress for
+  ``controller_patience`` s (move_base's name). It is a status, not a latch: the wrapped planner
+  runs every cycle, and the first legal command leaves ``STUCK`` (and starts a new progress
+  window). While ``STUCK`` with a legal command that makes no progress (an oscillation), that
+  command is passed on under ``STUCK``, so the caller hears about it and the robot keeps trying.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 
 import numpy as np
 
+from socialnav.core.errors import ConfigurationError
 from socialnav.core.geometry import FloatArray, wrap_angle
 from socialnav.core.robot import RobotModel
+from socialnav.core.trajectories import Trajectories
 from socialnav.planner.context import PlanningContext
 from socialnav.planner.critics.occupancy import OccupancyCritic
+from socialnav.planner.evasion import evasion_gaps, evasion_twists, time_to_collision
+from socialnav.planner.limits import CycleClock
 from socialnav.planner.local_planner import PlannerResult, PlannerStatus
 from socialnav.planner.protocols import LocalPlannerProtocol
+from socialnav.planner.record import EvaluationRecord
 from socialnav.planner.rollout import RolloutParams, rollout
 from socialnav.world.grid import INSCRIBED
+
+_ACTIVE = (PlannerStatus.OK, PlannerStatus.NO_LEGAL_TRAJECTORY)
+_AT_GOAL = (PlannerStatus.GOAL_REACHED, PlannerStatus.ROTATING_TO_GOAL)
 
 
 @dataclass(frozen=True)
 class RecoveryParams:
-    """Recovery and progress-check parameters (m, s, rad, m/s)."""
+    """Progress, waiting, evasion and recovery parameters (m, s, rad, m/s); module docstring.
+
+    Defaults: Nav2 ``SimpleProgressChecker`` (0.25 m in 10 s), ``base_local_planner``'s escape
+    (0.1 m/s), ``controller_patience`` 30 s (longer than move_base's 15 s: waiting for a person
+    to clear a corridor is normal), evasion below 3 s to collision (a person at 1.5 m/s is then
+    4.5 m away: time for a 0.3 m/s sidestep).
+    """
 
     backup_speed: float = 0.1
     backup_distance: float = 0.15
@@ -44,24 +77,27 @@ class RecoveryParams:
     clearance_range: float = 1.5
     rotate_tolerance: float = 0.2
     max_rotate_time: float = 6.0
-    progress_radius: float = 0.25
-    progress_time: float = 10.0
+    required_movement_radius: float = 0.25
+    movement_time_allowance: float = 10.0
+    controller_patience: float = 30.0
     max_recoveries: int = 5
+    person_blocking_distance: float = 1.0
+    person_blocking_lookahead: float = 3.0
+    evasion_ttc: float = 3.0
+    evasion_horizon: float = 3.0
+    evasion_min_person_speed: float = 0.3
 
     def __post_init__(self) -> None:
-        for name in (
-            "backup_speed",
-            "backup_distance",
-            "clearance_range",
-            "rotate_tolerance",
-            "max_rotate_time",
-            "progress_radius",
-            "progress_time",
-        ):
-            if not (np.isfinite(getattr(self, name)) and getattr(self, name) > 0):
-                raise ValueError(f"{name} must be positive")
-        if self.num_headings < 1 or self.max_recoveries < 1:
-            raise ValueError("num_headings and max_recoveries must be >= 1")
+        for f in fields(self):
+            value = getattr(self, f.name)
+            if f.name in ("num_headings", "max_recoveries"):
+                if int(value) < 1:
+                    raise ConfigurationError(f"recovery parameter {f.name} must be >= 1")
+            elif not (np.isfinite(value) and value >= 0):
+                raise ConfigurationError(f"recovery parameter {f.name} must be finite and >= 0")
+        for name in ("required_movement_radius", "movement_time_allowance", "evasion_horizon"):
+            if getattr(self, name) <= 0:
+                raise ConfigurationError(f"recovery parameter {name} must be positive")
 
 
 def clearance(ctx: PlanningContext, headings: FloatArray, max_range: float) -> FloatArray:
@@ -77,14 +113,29 @@ def clearance(ctx: PlanningContext, headings: FloatArray, max_range: float) -> F
     return np.where(first > 0, d[np.maximum(first - 1, 0)], 0.0)
 
 
+def person_gaps(ctx: PlanningContext) -> FloatArray:
+    """``(K,)`` gap (m) from the robot's circumscribed circle to each person's disc."""
+    if not ctx.social.people:
+        return np.zeros(0)
+    d = np.hypot(*(ctx.social.positions() - ctx.pose[:2]).T)
+    return d - ctx.social.radii() - ctx.robot.circumscribed_radius
+
+
+def body_to_world_velocity(pose: FloatArray, twist: FloatArray) -> FloatArray:
+    """World-frame ``(vx, vy)`` of a body twist ``(3,)`` at ``pose (3,)``."""
+    c, s = np.cos(pose[2]), np.sin(pose[2])
+    return np.array([c * twist[0] - s * twist[1], s * twist[0] + c * twist[1]])
+
+
 class RecoveringPlanner:
-    """Wraps any :class:`LocalPlannerProtocol` (and is one): recoveries on
-    ``NO_LEGAL_TRAJECTORY``, ``STUCK`` on no progress. Never raises on a well-typed context."""
+    """Wraps any :class:`LocalPlannerProtocol` (and is one): evasion, waiting, recoveries and a
+    non-latching ``STUCK`` (module docstring). Never raises on a well-typed context."""
 
     def __init__(self, planner: LocalPlannerProtocol, params: RecoveryParams | None = None) -> None:
         self.planner = planner
         self.params = params or RecoveryParams()
         self._occupancy = OccupancyCritic()
+        self._clock = CycleClock()
         self.reset()
 
     @property
@@ -95,7 +146,7 @@ class RecoveringPlanner:
     def reset(self) -> None:
         """Forget recoveries, the progress anchor and the STUCK latch."""
         self.planner.reset()
-        self._stuck = False
+        self._clock.reset()
         self._phase: str | None = None
         self._phase_start = 0.0
         self._target_yaw = 0.0
@@ -104,62 +155,139 @@ class RecoveringPlanner:
         self._anchor: FloatArray | None = None
         self._anchor_time = 0.0
         self._goal: FloatArray | None = None
+        self._blocked = False  # the previous cycle had no legal command
+
+    def _out(
+        self, cmd: FloatArray, status: PlannerStatus, record: EvaluationRecord | None, message: str
+    ) -> PlannerResult:
+        """A result toward this cycle's goal (the navigator's resolved target)."""
+        return PlannerResult(cmd, status, record, message, self._goal)
 
     def plan(self, ctx: PlanningContext, record: bool = False) -> PlannerResult:
         """One cycle: the wrapped planner, or a recovery step, or STUCK; never raises."""
         pose = np.asarray(ctx.pose, dtype=float)
         if pose.shape != (3,) or not np.all(np.isfinite(pose)) or not np.isfinite(ctx.time):
             return self.planner.plan(ctx, record)  # INVALID_INPUT from the planner
+        now = self._clock.tick(float(ctx.time))
+        p = self.params
         goal = np.asarray(ctx.goal, dtype=float)
         if self._goal is None or goal.shape != self._goal.shape or np.any(goal != self._goal):
             self._goal = goal.copy()
-            self._stuck, self._phase, self._recoveries = False, None, 0
-            self._anchor = None
+            self._phase, self._recoveries, self._anchor = None, 0, None
         if (
             self._anchor is None
-            or np.hypot(*(pose[:2] - self._anchor[:2])) >= self.params.progress_radius
+            or np.hypot(*(pose[:2] - self._anchor[:2])) >= p.required_movement_radius
         ):
-            self._anchor, self._anchor_time = pose.copy(), float(ctx.time)
-        if self._stuck:
-            return PlannerResult(
-                np.zeros(3), PlannerStatus.STUCK, None, "stuck (latched)", self._goal
-            )
-        if float(ctx.time) - self._anchor_time > self.params.progress_time:
-            return self._give_up(
-                f"no {self.params.progress_radius} m progress in {self.params.progress_time} s"
-            )
+            self._anchor, self._anchor_time = pose.copy(), now
         if self._phase is not None:
-            cmd = self._recovery_cmd(ctx)
+            cmd = self._recovery_cmd(ctx, now)
             if cmd is not None:
-                why = f"recovery: {self._phase}"
-                return PlannerResult(cmd, PlannerStatus.RECOVERING, None, why, self._goal)
+                return self._out(cmd, PlannerStatus.RECOVERING, None, f"recovery: {self._phase}")
         result = self.planner.plan(ctx, record)
-        if result.status in (PlannerStatus.GOAL_REACHED, PlannerStatus.ROTATING_TO_GOAL):
-            self._anchor, self._anchor_time = pose.copy(), float(ctx.time)
-        if result.status == PlannerStatus.OK:
-            self._recoveries = 0
-        if result.status != PlannerStatus.NO_LEGAL_TRAJECTORY:
+        if result.status in _AT_GOAL:
+            self._anchor, self._anchor_time, self._recoveries = pose.copy(), now, 0
+            self._blocked = False
             return result
-        if self._recoveries >= self.params.max_recoveries:
-            return self._give_up(f"{self._recoveries} recoveries without progress")
+        if result.status not in _ACTIVE:
+            return result  # INVALID_INPUT, NO_PATH, CRITIC_UNAVAILABLE: the navigator reports
+        legal = result.status == PlannerStatus.OK
+        if legal and self._blocked:
+            self._anchor, self._anchor_time = pose.copy(), now  # the way opened: a new window
+        self._blocked = not legal
+        evade = self._evasion(ctx, result)
+        if evade is not None:
+            return evade
+        stalled = now - self._anchor_time
+        if legal and stalled <= p.movement_time_allowance:
+            self._recoveries = 0
+            return result
+        if stalled > p.controller_patience:
+            why = f"no {p.required_movement_radius} m progress in {stalled:.1f} s"
+            if legal:
+                return self._out(result.cmd, PlannerStatus.STUCK, result.record, why)
+            return self._out(np.zeros(3), PlannerStatus.STUCK, result.record, why)
+        blocker = self._blocking_person(ctx)
+        if blocker is not None:
+            k, gap = blocker
+            who = ctx.social.people[k].id
+            why = f"waiting for person {who} ({gap:.2f} m away): {result.message or 'blocked'}"
+            return self._out(np.zeros(3), PlannerStatus.WAITING, result.record, why)
+        if self._recoveries >= p.max_recoveries:
+            if legal:
+                return result
+            return self._out(
+                np.zeros(3),
+                PlannerStatus.NO_LEGAL_TRAJECTORY,
+                result.record,
+                f"{self._recoveries} recoveries without progress; {result.message}",
+            )
         self._recoveries += 1
-        self._start(ctx)
-        cmd = self._recovery_cmd(ctx)
+        self._start(ctx, now)
+        cmd = self._recovery_cmd(ctx, now)
         if cmd is None:
             cmd = np.zeros(3)
-        return PlannerResult(
-            cmd,
-            PlannerStatus.RECOVERING,
-            result.record,
-            f"recovery after: {result.message}",
-            self._goal,
-        )
+        why = f"recovery after: {result.message or 'no progress'}"
+        return self._out(cmd, PlannerStatus.RECOVERING, result.record, why)
 
-    def _give_up(self, why: str) -> PlannerResult:
-        self._stuck, self._phase = True, None
-        return PlannerResult(np.zeros(3), PlannerStatus.STUCK, None, why, self._goal)
+    def _blocking_person(self, ctx: PlanningContext) -> tuple[int, float] | None:
+        """``(index, gap m)`` of the person blocking the robot (module docstring), or None."""
+        gaps = person_gaps(ctx)
+        if not gaps.size:
+            return None
+        p, r = self.params, self.robot
+        blocking = gaps <= p.person_blocking_distance
+        path = np.asarray(ctx.global_path, dtype=float).reshape(-1, 2)
+        if path.shape[0] and not blocking.all():
+            s = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(path, axis=0).T))])
+            ahead = path[s <= p.person_blocking_lookahead]
+            d = np.hypot(*(ahead[None] - ctx.social.positions()[:, None]).transpose(2, 0, 1))
+            blocking |= d.min(axis=1) <= ctx.social.radii() + r.circumscribed_radius
+        if not blocking.any():
+            return None
+        k = int(np.argmin(np.where(blocking, gaps, np.inf)))
+        return k, float(gaps[k])
 
-    def _start(self, ctx: PlanningContext) -> None:
+    # ---- evasion --------------------------------------------------------------------------
+    def _evasion(self, ctx: PlanningContext, result: PlannerResult) -> PlannerResult | None:
+        p, r = self.params, self.robot
+        people = ctx.social.people
+        if not people or p.evasion_ttc <= 0:
+            return None
+        pos, vel, radii = ctx.social.positions(), ctx.social.velocities(), ctx.social.radii()
+        fast = np.hypot(vel[:, 0], vel[:, 1]) >= p.evasion_min_person_speed
+        near = np.hypot(*(pos - ctx.pose[:2]).T) <= r.circumscribed_radius + radii + 6.0
+        sel = fast & near
+        if not sel.any():
+            return None
+        pos, vel, radii = pos[sel], vel[sel], radii[sel]
+        own = body_to_world_velocity(ctx.pose, result.cmd)
+        ttc = time_to_collision(ctx.pose[:2], own, pos, vel, radii + r.circumscribed_radius)
+        if float(ttc.min()) >= p.evasion_ttc:
+            return None
+        twists = np.concatenate([result.cmd[None], np.zeros((1, 3)), evasion_twists(r)])
+        gaps, trajs = evasion_gaps(ctx.pose, twists, r, pos, vel, radii, p.evasion_horizon)
+        static = self._static_ok(ctx, trajs)
+        if not static[1:].any():
+            return None
+        gaps = np.where(static, gaps, -np.inf)
+        # Progress toward the local goal breaks near-ties (within 5 cm of the best gap).
+        progress = -np.hypot(*(trajs.end_poses[:, :2] - ctx.goal[:2]).T)
+        best_gap = float(gaps.max())
+        tied = gaps >= best_gap - 0.05
+        k = int(np.argmax(np.where(tied, progress, -np.inf)))
+        if k == 0 or gaps[k] <= gaps[0] + 1e-3:
+            return None  # the planner's own command keeps as much clearance
+        who = int(np.flatnonzero(sel)[int(np.argmin(ttc))])
+        why = f"evading person {people[who].id} (time to collision {float(ttc.min()):.2f} s)"
+        return self._out(twists[k].copy(), PlannerStatus.EVADING, result.record, why)
+
+    def _static_ok(self, ctx: PlanningContext, trajs: Trajectories) -> np.ndarray:
+        """Legal against the local costmap (people discs included: moving away is allowed)."""
+        score = self._occupancy.score(trajs, ctx)
+        return np.isfinite(score.cost)
+
+    # ---- recoveries -----------------------------------------------------------------------
+    def _start(self, ctx: PlanningContext, now: float) -> None:
         p = self.params
         headings = ctx.pose[2] + np.arange(p.num_headings) * (2 * np.pi / p.num_headings)
         free = clearance(ctx, headings, p.clearance_range)
@@ -171,21 +299,35 @@ class RecoveringPlanner:
         facing = abs(float(wrap_angle(self._target_yaw - ctx.pose[2]))) <= p.rotate_tolerance
         behind = rear >= 0.8 * free[best] and rear > 0
         self._phase = "backup" if behind or facing else "rotate"
-        self._phase_start = float(ctx.time)
+        self._phase_start = now
         self._backup_from = ctx.pose[:2].copy()
 
     def _safe(self, ctx: PlanningContext, twist: FloatArray, duration: float) -> bool:
         params = RolloutParams(sim_time=max(duration, 0.1))
         trajs = rollout(ctx.pose, ctx.velocity, twist[None], self.robot, params)
-        score = self._occupancy.score(trajs, ctx)
-        return bool(np.isfinite(score.cost[0]))
+        if not bool(np.isfinite(self._occupancy.score(trajs, ctx).cost[0])):
+            return False
+        if not ctx.social.people:
+            return True
+        # Never toward a person's forecast position (people are in the costmap only where they
+        # are now).
+        gaps, _ = evasion_gaps(
+            ctx.pose,
+            twist[None],
+            self.robot,
+            ctx.social.positions(),
+            ctx.social.velocities(),
+            ctx.social.radii(),
+            max(duration, 0.1),
+        )
+        return bool(gaps[0] > 0.0 or gaps[0] >= float(person_gaps(ctx).min()))
 
-    def _recovery_cmd(self, ctx: PlanningContext) -> FloatArray | None:
+    def _recovery_cmd(self, ctx: PlanningContext, now: float) -> FloatArray | None:
         """The current recovery step's twist, or ``None`` when the recovery is over."""
         p, r = self.params, self.robot
         if self._phase == "rotate":
             err = float(wrap_angle(self._target_yaw - ctx.pose[2]))
-            timed_out = float(ctx.time) - self._phase_start > p.max_rotate_time
+            timed_out = now - self._phase_start > p.max_rotate_time
             if abs(err) <= p.rotate_tolerance or timed_out:
                 self._phase = None
                 return None
@@ -197,7 +339,8 @@ class RecoveringPlanner:
         if self._phase == "backup" and self._backup_from is not None:
             speed = min(p.backup_speed, -r.min_vel_x)
             moved = float(np.hypot(*(ctx.pose[:2] - self._backup_from)))
-            if speed > 0 and moved < p.backup_distance:
+            timed_out = now - self._phase_start > p.max_rotate_time
+            if speed > 0 and moved < p.backup_distance and not timed_out:
                 twist = np.array([-speed, 0.0, 0.0])
                 if self._safe(ctx, twist, 1.0):
                     return twist

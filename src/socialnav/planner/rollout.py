@@ -25,6 +25,7 @@ import numpy as np
 from socialnav.core.geometry import FloatArray, wrap_angle
 from socialnav.core.robot import RobotModel
 from socialnav.core.trajectories import Trajectories
+from socialnav.planner import kernels
 
 
 class RolloutConfig(Protocol):
@@ -94,6 +95,8 @@ def rollout(
     steps = num_steps(twists, params)
     t = np.linspace(0.0, params.sim_time, steps + 1)
     dt = params.sim_time / steps
+    if dtype is np.float64 and kernels.enabled():  # one compiled pass, bit-identical
+        return Trajectories(twists, kernels.rollout_poses(pose, twists, t, dt), t)
     n = twists.shape[0]
     vx: FloatArray
     vy: FloatArray

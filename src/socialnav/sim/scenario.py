@@ -24,6 +24,7 @@ from typing import Annotated, Any, Literal
 
 import numpy as np
 import yaml
+from numpy.typing import NDArray
 from pydantic import (
     AfterValidator,
     BaseModel,
@@ -480,9 +481,15 @@ class Scenario(_Model):
         With a ROS map the map's own grid (and resolution) is used and the vector geometry is
         drawn on top of it.
         """
+        from socialnav.world.inflation import inflate
+
+        occupied, unknown, geometry = self._occupancy(resolution)
+        return inflate(occupied, geometry, robot.inscribed_radius, unknown=unknown)
+
+    def _occupancy(self, resolution: float) -> tuple[NDArray[np.bool_], Any, GridGeometry]:
+        """Occupied cells (walls, obstacles, ROS map), UNKNOWN cells (ROS map or None), grid."""
         from scipy.ndimage import binary_dilation
 
-        from socialnav.world.inflation import inflate
         from socialnav.world.raster import rasterize
 
         occ = self._load_ros_map()
@@ -510,7 +517,34 @@ class Scenario(_Model):
         # grid cover the true shape, so a footprint legal on the grid cannot touch the shape.
         # (Wall segments already mark every cell they pass within half a cell diagonal of.)
         occupied = base | walls | binary_dilation(solids, structure=np.ones((3, 3), dtype=bool))
-        return inflate(occupied, geometry, robot.inscribed_radius, unknown=unknown)
+        return occupied, unknown, geometry
+
+    def geometry_problems(self) -> list[str]:
+        """What is wrong with the scene's geometry, each naming the field: a start, goal or
+        person inside a wall or obstacle (on the map's occupied cells, without inflation), a
+        goal or start outside the map (off a ROS map's grid or on its UNKNOWN cells; without
+        one, outside the walls' extent). Raises ``ConfigurationError`` for a missing or
+        unreadable ROS map file (``map.ros_map``)."""
+        occupied, unknown, geo = self._occupancy(0.05)
+        walls = np.asarray(self.map.walls, dtype=float).reshape(-1, 2)
+        points = [("start", self.start[:2]), ("goal", self.goal[:2])]
+        points += [(f"people.{i}.position", p.position) for i, p in enumerate(self.people)]
+        problems = []
+        for field, xy in points:
+            x, y = float(xy[0]), float(xy[1])
+            rc = geo.world_to_cell(np.array([x, y]))
+            on_grid = bool(geo.in_bounds(rc))
+            if field in ("start", "goal"):
+                outside = not on_grid or (unknown is not None and bool(unknown[rc[0], rc[1]]))
+                if self.map.ros_map is None and walls.size:
+                    lo, hi = walls.min(axis=0), walls.max(axis=0)
+                    outside = not (lo[0] <= x <= hi[0] and lo[1] <= y <= hi[1])
+                if outside:
+                    problems.append(f"{field}: ({x:g}, {y:g}) is outside the map")
+                    continue
+            if on_grid and bool(occupied[rc[0], rc[1]]):
+                problems.append(f"{field}: ({x:g}, {y:g}) is inside a wall or obstacle")
+        return problems
 
     # -- randomization ------------------------------------------------------------------------
 
@@ -683,15 +717,55 @@ def load_scenario(name_or_path: str | Path) -> Scenario:
     return _load_file(path)
 
 
+# Scenario files are a few kB; anything this large is not one, and is refused before parsing
+# (a YAML parser holds the whole document in memory, many times its size).
+MAX_SCENARIO_BYTES = 1_000_000
+# Nesting deeper than any scenario needs is refused before the parser recurses into it.
+MAX_NESTING = 64
+
+
+def _nesting_depth(text: str) -> int:
+    """Upper bound of the flow-collection nesting (``[``/``{``) and indentation depth."""
+    depth = best = 0
+    for ch in text:
+        if ch in "[{":
+            depth += 1
+            best = max(best, depth)
+        elif ch in "]}":
+            depth = max(depth - 1, 0)
+    indent = max((len(line) - len(line.lstrip(" ")) for line in text.splitlines()), default=0)
+    return max(best, indent // 2)
+
+
 def _load_file(path: Path) -> Scenario:
     try:
-        raw = path.read_text(encoding="utf-8")
+        size = path.stat().st_size
+        if size > MAX_SCENARIO_BYTES:
+            raise ConfigurationError(
+                f"{path}: {size} bytes is over the {MAX_SCENARIO_BYTES}-byte limit of a "
+                "scenario file; not parsed"
+            )
+        data_bytes = path.read_bytes()
     except OSError as exc:
         raise ConfigurationError(f"{path}: cannot read: {exc.strerror or exc}") from None
+    if b"\x00" in data_bytes:
+        raise ConfigurationError(f"{path.name}: not a text file (NUL bytes): not a scenario")
+    try:
+        raw = data_bytes.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise ConfigurationError(
+            f"{path.name}: not UTF-8 text (byte {exc.start}): not a scenario"
+        ) from None
+    if _nesting_depth(raw) > MAX_NESTING:
+        raise ConfigurationError(
+            f"{path.name}: nested deeper than {MAX_NESTING} levels: not a scenario"
+        )
     try:
         data = yaml.safe_load(raw)
     except yaml.YAMLError as exc:
         raise ConfigurationError(f"{path.name}: invalid YAML: {exc}") from None
+    except RecursionError:
+        raise ConfigurationError(f"{path.name}: YAML nested too deeply: not a scenario") from None
     return scenario_from_dict(data, path.name).with_source(path)
 
 

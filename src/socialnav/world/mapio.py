@@ -148,6 +148,12 @@ def _parse_negate(raw: Any, path: Path) -> bool:
     raise MapFileError(f"{path}: field 'negate' must be 0, 1, true or false, got {raw!r}")
 
 
+# 2e8 cells: a 10 km × 10 km map at 0.7 m, or 700 m × 700 m at 5 cm; larger is refused.
+MAX_MAP_CELLS = 200_000_000
+# A map_server YAML has seven fields.
+MAX_MAP_YAML_BYTES = 100_000
+
+
 def _read_pixels(
     image_path: Path, yaml_path: Path, mode: str
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
@@ -155,10 +161,22 @@ def _read_pixels(
     img: Image.Image
     try:
         with Image.open(image_path) as im:
+            # The header's size is checked before any pixel is decoded: a header can claim
+            # an image far larger than the file (or than memory).
+            width, height = im.size
+            if width * height > MAX_MAP_CELLS:
+                raise MapFileError(
+                    f"{yaml_path}: field 'image': {image_path} claims {width} × {height} pixels, "
+                    f"over the limit of {MAX_MAP_CELLS} cells"
+                )
             im.load()
             img = im
+    except MapFileError:
+        raise
     except FileNotFoundError:
         raise MapFileError(f"{yaml_path}: field 'image': file not found: {image_path}") from None
+    except Image.DecompressionBombError as exc:
+        raise MapFileError(f"{yaml_path}: field 'image': {image_path}: {exc}") from None
     except (UnidentifiedImageError, OSError, SyntaxError, ValueError) as exc:
         raise MapFileError(
             f"{yaml_path}: field 'image': cannot read image {image_path}: {exc}"
@@ -192,13 +210,21 @@ def load_map(yaml_path: str | Path, *, allow_yaw: bool = True) -> OccupancyMap:
     """
     path = Path(yaml_path)
     try:
-        text = path.read_text()
+        if path.stat().st_size > MAX_MAP_YAML_BYTES:
+            raise MapFileError(
+                f"{path}: over the {MAX_MAP_YAML_BYTES}-byte limit of a map YAML; not parsed"
+            )
+        text = path.read_bytes().decode("utf-8")
     except OSError as exc:
         raise MapFileError(f"{path}: cannot read map YAML: {exc}") from None
+    except UnicodeDecodeError:
+        raise MapFileError(f"{path}: not a UTF-8 text map YAML") from None
     try:
         doc = yaml.safe_load(text)
     except yaml.YAMLError as exc:
         raise MapFileError(f"{path}: invalid YAML: {exc}") from None
+    except RecursionError:
+        raise MapFileError(f"{path}: YAML nested too deeply") from None
     if not isinstance(doc, dict):
         raise MapFileError(f"{path}: map YAML must be a mapping of fields")
 

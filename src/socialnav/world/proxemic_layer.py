@@ -17,8 +17,10 @@ Deviations from the C++ package, on purpose:
   reversed, then adds ≈ π/2), i.e. ``θ - 1.63`` rad; here it is exactly ``θ - π/2``.
 - A stationary person (``|v| = 0``) has no heading, so the passing layer writes the full
   symmetric Gaussian there (the package's lobe would point along world ``+y`` by accident).
-- The bounding window per person is a square of half-size ``get_radius(cutoff, A, σ_x²)``,
-  which contains every cell with ``a >= cutoff``; the package's window is shifted and can clip.
+- The bounding window per person is a square of half-size ``get_radius(cutoff, A, σ_x²)``
+  (plus a cell), which contains every cell with ``a >= cutoff``, clipped to the grid, so the
+  work per person is bounded by the grid whatever the person's speed or position; the
+  package's window is shifted and can clip.
 - UNKNOWN cells are not skipped here; :func:`socialnav.world.costmap.combine_max` keeps them.
 """
 
@@ -50,7 +52,8 @@ def proxemic_costs(
     """Social cost layer ``(rows, cols)`` uint8 for people at ``positions (K, 2)`` m with
     ``velocities (K, 2)`` m/s. ``K = 0`` gives an all-zero layer.
 
-    Work is vectorized over people × cells of a common-size bounding window per person.
+    Work is vectorized over the cells of each person's own bounding window, clipped to the grid
+    (at most ``rows × cols`` cells per person, whatever their speed).
     """
     pos = as_points(positions, "positions").reshape(-1, 2)
     vel = as_points(velocities, "velocities").reshape(-1, 2)
@@ -74,33 +77,39 @@ def proxemic_costs(
     theta = np.arctan2(vel[:, 1], vel[:, 0])
     if passing:
         theta = theta - np.pi / 2.0
-    var_front = variance * (1.0 + speed * velocity_factor)  # (K,)
-    reach = get_radius(cutoff, amplitude, float(var_front.max()))
+    with np.errstate(over="ignore"):
+        var_front = variance * (1.0 + speed * velocity_factor)  # (K,)
     res = geometry.resolution
-    half = int(np.ceil(reach / res)) + 1
-    offs = np.arange(-half, half + 1)
-
-    centre = geometry.world_to_cell(pos)  # (K, 2) row, col
-    rows = centre[:, 0, None, None] + offs[None, :, None]  # (K, W, 1)
-    cols = centre[:, 1, None, None] + offs[None, None, :]  # (K, 1, W)
+    rows_n, cols_n = geometry.shape
     ox, oy = geometry.origin
-    dx = ox + (cols + 0.5) * res - pos[:, 0, None, None]  # (K, 1, W)
-    dy = oy + (rows + 0.5) * res - pos[:, 1, None, None]  # (K, W, 1)
-    c = np.cos(theta)[:, None, None]
-    s = np.sin(theta)[:, None, None]
-    mx = dx * c + dy * s  # (K, W, W) along the (lobe) heading
-    my = dy * c - dx * s
-    vf = var_front[:, None, None]
-    front = mx > 0.0
-    sx2 = np.where(front, vf, variance)
-    a = amplitude * np.exp(-(mx * mx / (2.0 * sx2) + my * my / (2.0 * variance)))
-    if passing:
-        # One-sided lobe; the person's own cell and stationary people keep the full Gaussian.
-        moving = (speed > 0.0)[:, None, None]
-        a = np.where(moving & (mx < 0.0), 0.0, a)
-
-    inside = (rows >= 0) & (rows < geometry.shape[0]) & (cols >= 0) & (cols < geometry.shape[1])
-    keep = inside & (a >= cutoff)
-    flat = np.broadcast_to(rows, a.shape) * geometry.shape[1] + np.broadcast_to(cols, a.shape)
-    np.maximum.at(out.reshape(-1), flat[keep], np.floor(a[keep]).astype(np.uint8))
+    # Per-person windows clipped to the grid: the work is bounded by the grid, whatever a
+    # person's speed (a tracker glitch at 10 m/s) or position.
+    diagonal = float(np.hypot(rows_n, cols_n)) * res
+    flat_out = out.reshape(-1)
+    for k in range(pos.shape[0]):
+        reach = min(get_radius(cutoff, amplitude, float(var_front[k])), diagonal) + res
+        c0 = max(int(np.floor(max((pos[k, 0] - reach - ox) / res, -1.0))), 0)
+        r0 = max(int(np.floor(max((pos[k, 1] - reach - oy) / res, -1.0))), 0)
+        c1 = min(int(np.ceil(min((pos[k, 0] + reach - ox) / res, cols_n + 1.0))) + 1, cols_n)
+        r1 = min(int(np.ceil(min((pos[k, 1] + reach - oy) / res, rows_n + 1.0))) + 1, rows_n)
+        if r0 >= r1 or c0 >= c1:
+            continue  # the person's cost cannot reach the grid
+        rows = np.arange(r0, r1)[:, None]
+        cols = np.arange(c0, c1)[None, :]
+        dx = ox + (cols + 0.5) * res - pos[k, 0]  # (1, W)
+        dy = oy + (rows + 0.5) * res - pos[k, 1]  # (H, 1)
+        c, s = np.cos(theta[k]), np.sin(theta[k])
+        mx = dx * c + dy * s  # (H, W) along the (lobe) heading
+        my = dy * c - dx * s
+        sx2 = np.where(mx > 0.0, var_front[k], variance)
+        a = amplitude * np.exp(-(mx * mx / (2.0 * sx2) + my * my / (2.0 * variance)))
+        if passing and speed[k] > 0.0:
+            # One-sided lobe; stationary people keep the full Gaussian.
+            a = np.where(mx < 0.0, 0.0, a)
+        keep = a >= cutoff
+        if not keep.any():
+            continue
+        flat = (rows * cols_n + cols)[keep]
+        # Cells are unique within one window: a plain fancy-index max suffices.
+        flat_out[flat] = np.maximum(flat_out[flat], np.floor(a[keep]).astype(np.uint8))
     return out

@@ -28,6 +28,7 @@ from socialnav.core.errors import ConfigurationError
 from socialnav.core.geometry import FloatArray
 from socialnav.core.scene import SocialContext
 from socialnav.core.trajectories import Trajectories
+from socialnav.planner import kernels
 from socialnav.planner.critics.base import CRITICS, Critic, CriticScore
 from socialnav.planner.critics.interpersonal import capped_inverse_exp
 from socialnav.social.spaces import OSPACE_MARGIN, o_space
@@ -84,6 +85,8 @@ class GroupCritic(Critic):
         centers, radii = group_ospaces(ctx.social, self.margin)
         if radii.size == 0:
             return CriticScore(np.zeros(n))
+        if kernels.enabled():
+            return self._score_compiled(trajs, centers, radii)
         xy = trajs.xy if self.evaluation == "max_over_time" else trajs.xy[:, -1:]
         dx = xy[:, :, None, 0] - centers[:, 0]
         dy = xy[:, :, None, 1] - centers[:, 1]
@@ -98,4 +101,33 @@ class GroupCritic(Critic):
                 dy = trajs.xy[:, :, None, 1] - centers[:, 1]
                 d2 = dx * dx + dy * dy
             illegal["ospace_intrusion"] = np.asarray((d2 < radii**2).any(axis=(1, 2)))
+        return CriticScore(cost, illegal)
+
+    def _score_compiled(
+        self, trajs: Trajectories, centers: FloatArray, radii: FloatArray
+    ) -> CriticScore:
+        """:meth:`score` with the minimum over time from the compiled kernel (bit-identical:
+        the same squared distances and exact minima; ``any(d² < r²) == (min d²) < r²``)."""
+        g = radii.size
+        people = np.arange(g, dtype=np.intp)
+
+        def d2min(poses: FloatArray) -> FloatArray:
+            fixed = np.broadcast_to(centers, (poses.shape[1], g, 2))
+            out = np.empty((poses.shape[0], g))
+            kernels.min_squared_distances(poses, fixed, people, out)
+            return out
+
+        d2_all: FloatArray | None = None
+        if self.evaluation == "max_over_time" or self.illegal_inside:
+            d2_all = d2min(trajs.poses)
+        if self.evaluation == "max_over_time" and d2_all is not None:
+            d2 = d2_all
+        else:
+            d2 = d2min(trajs.poses[:, -1:])
+        gd = np.sqrt(d2) - radii  # (N, G)
+        cost = capped_inverse_exp(gd, self.influence_range, self.min_distance).max(axis=1)
+        illegal: dict[str, np.ndarray] = {}
+        if self.illegal_inside:
+            assert d2_all is not None
+            illegal["ospace_intrusion"] = np.asarray((d2_all < radii**2).any(axis=1))
         return CriticScore(cost, illegal)

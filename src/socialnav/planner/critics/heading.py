@@ -29,8 +29,10 @@ import numpy as np
 
 from socialnav.core.geometry import wrap_angle
 from socialnav.core.trajectories import Trajectories
+from socialnav.planner import kernels
+from socialnav.planner.cache import HeadingPlan
 from socialnav.planner.critics.base import CRITICS, Critic, CriticScore, CriticUnavailable
-from socialnav.planner.critics.path_distance import densify_path
+from socialnav.planner.critics.map_grid import densify_path
 
 if TYPE_CHECKING:
     from socialnav.planner.context import PlanningContext
@@ -55,14 +57,15 @@ class HeadingCritic(Critic):
 
     def prepare(self, ctx: PlanningContext) -> None:
         """Densify the plan near the robot and its tangents (per cycle)."""
-        if "heading_plan" in ctx.extras:
+        if ctx.cache.heading_plan is not None:
             return
         path = np.asarray(ctx.global_path, dtype=float).reshape(-1, 2)
         if path.shape[0] == 0:
             raise CriticUnavailable("empty global plan")
         dense = densify_path(path, self.spacing)
         s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(dense, axis=0), axis=1))])
-        horizon = float(ctx.extras.get("reach", np.inf)) + 2.0 + self.heading_lookahead
+        reach = ctx.cache.reach
+        horizon = float(np.inf if reach is None else reach) + 2.0 + self.heading_lookahead
         keep = s <= horizon
         keep[0] = True
         dense, s = dense[keep], s[keep]
@@ -73,18 +76,26 @@ class HeadingCritic(Critic):
             tangent = np.concatenate([seg[:1], seg])
         else:
             tangent = np.array([float(ctx.goal[2])])
-        ctx.extras["heading_plan"] = (dense, s, tangent)
+        ctx.cache.heading_plan = HeadingPlan(dense, s, tangent)
 
     def score(self, trajs: Trajectories, ctx: PlanningContext) -> CriticScore:
         """Heading error (rad) ``(N,)`` of each end pose against the plan ahead."""
         if np.hypot(*(np.asarray(ctx.pose[:2]) - np.asarray(ctx.goal[:2]))) < self.near_goal:
             return CriticScore(np.zeros(len(trajs)))
-        if "heading_plan" not in ctx.extras:
+        plan = ctx.cache.heading_plan
+        if plan is None:
             self.prepare(ctx)
-        dense, s, tangent = ctx.extras["heading_plan"]
+            plan = ctx.cache.heading_plan
+            assert plan is not None  # prepare stores it or raises
+        dense, s, tangent = plan.dense, plan.s, plan.tangent
         end = trajs.poses[:, -1].astype(float)
-        d2 = (end[:, None, 0] - dense[None, :, 0]) ** 2 + (end[:, None, 1] - dense[None, :, 1]) ** 2
-        i = np.argmin(d2, axis=1)
+        if kernels.enabled():
+            i = kernels.nearest_vertex(end, dense)
+        else:
+            d2 = (end[:, None, 0] - dense[None, :, 0]) ** 2 + (
+                end[:, None, 1] - dense[None, :, 1]
+            ) ** 2
+            i = np.argmin(d2, axis=1)
         j = np.minimum(np.searchsorted(s, s[i] + self.heading_lookahead - 1e-9), s.size - 1)
         delta = dense[j] - end[:, :2]
         far = np.hypot(delta[:, 0], delta[:, 1]) >= 0.5 * self.heading_lookahead

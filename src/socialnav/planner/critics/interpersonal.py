@@ -20,11 +20,13 @@ Deviations and choices:
 - Collisions: a trajectory whose footprint disc (``footprint_disc`` radius: the inscribed circle
   by default — the occupancy critic handles corners against walls; choose ``circumscribed`` to be
   conservative) overlaps a person's disc at any rollout time (people forecast by
-  ``ctx.people_at``) is illegal, reason ``person_collision``.
+  ``ctx.people_at``) is illegal, reason ``person_collision`` — except against a person already
+  overlapping it now, where only a trajectory that ever gets closer to them is (escape from
+  overlap: the robot can always drive away from someone touching it).
 - Speed, not behaviour: the per-time distances enter only through their minimum over time
   (``f`` is non-increasing; a collision at some time is ``min d² < r²``), so the ``(N, K)``
   minimum is computed once per cycle and shared by every interpersonal critic (the paper's
-  ``ID_f1 … ID_fn`` slots) via ``ctx.extras``; people who provably stay beyond every distance
+  ``ID_f1 … ID_fn`` slots) via ``ctx.cache``; people who provably stay beyond every distance
   that matters are culled first (:func:`min_squared_distances`).
 """
 
@@ -38,6 +40,8 @@ import numpy as np
 from socialnav.core.errors import ConfigurationError
 from socialnav.core.geometry import FloatArray
 from socialnav.core.trajectories import Trajectories
+from socialnav.planner import kernels
+from socialnav.planner.cache import PeopleDistances
 from socialnav.planner.critics.base import CRITICS, Critic, CriticScore
 
 if TYPE_CHECKING:
@@ -54,6 +58,10 @@ def footprint_radius(ctx: PlanningContext, which: str) -> float:
     return ctx.robot.inscribed_radius if which == "inscribed" else ctx.robot.circumscribed_radius
 
 
+def _box(xy: FloatArray) -> tuple[FloatArray, FloatArray]:
+    return xy.min(axis=0), xy.max(axis=0)
+
+
 def min_squared_distances(
     trajs: Trajectories, ctx: PlanningContext, reach: FloatArray
 ) -> FloatArray:
@@ -63,25 +71,30 @@ def min_squared_distances(
     Exact wherever the distance can be ``<= reach[k]`` (m, per person); a person who provably
     stays farther than ``reach[k]`` from every rollout point at every time gets ``inf`` (culled:
     the bound is the distance from the person to the box of all trajectory points at that
-    time). Shared through ``ctx.extras`` within a cycle: computed once per (trajectory batch,
-    forecast) — the cache keeps the batch itself and compares by identity — and extended when a
-    later caller's ``reach`` needs more people.
+    time). Shared through ``ctx.cache.people_distances`` within a cycle: computed once per
+    (trajectory batch, forecast) — the cache keeps the batch itself and compares by identity —
+    and extended when a later caller's ``reach`` needs more people.
     """
-    entry = ctx.extras.get("interpersonal_d2min")
-    if entry is None or entry[0] is not trajs:
+    entry = ctx.cache.people_distances
+    if entry is None or entry.trajs is not trajs:
         xy = trajs.xy
         forecast = ctx.people_at(trajs.t)  # (T, K, 2)
         # Per-time box of the rollout points → a lower bound on each person's distance.
-        lo, hi = xy.min(axis=0), xy.max(axis=0)  # (T, 2)
+        lo, hi = kernels.time_box(trajs.poses) if kernels.enabled() else _box(xy)  # (T, 2)
         gap = np.maximum(lo[:, None] - forecast, 0.0) + np.maximum(forecast - hi[:, None], 0.0)
         bound = np.sqrt((gap * gap).sum(axis=-1)).min(axis=0)  # (K,)
         d2min = np.full((len(trajs), forecast.shape[1]), np.inf)
-        entry = (trajs, forecast, bound, np.zeros(forecast.shape[1], dtype=bool), d2min)
-        ctx.extras["interpersonal_d2min"] = entry
-    _, forecast, bound, done, d2min = entry
+        entry = PeopleDistances(
+            trajs, forecast, bound, np.zeros(forecast.shape[1], dtype=bool), d2min
+        )
+        ctx.cache.people_distances = entry
+    forecast, bound, done, d2min = entry.forecast, entry.bound, entry.done, entry.d2min
     # A relative margin keeps the cull conservative against rounding in the bound.
     todo = ~done & (bound <= reach * (1.0 + 1e-9) + 1e-9)
-    if todo.any():
+    if todo.any() and kernels.enabled():
+        kernels.min_squared_distances(trajs.poses, forecast, np.flatnonzero(todo), d2min)
+        done |= todo
+    elif todo.any():
         xs = np.ascontiguousarray(trajs.xy[..., 0])  # (N, T)
         ys = np.ascontiguousarray(trajs.xy[..., 1])
         # One person at a time: (N, T) temporaries stay in cache, unlike one (N, T, K) array.
@@ -181,5 +194,16 @@ class InterpersonalCritic(Critic):
         if self.collision_check:
             # any over time of d² < r² is (min over time of d²) < r²
             assert d2min is not None
-            illegal["person_collision"] = np.asarray((d2min < (radii + robot_r) ** 2).any(axis=1))
+            r2 = (radii + robot_r) ** 2
+            hit = d2min < r2  # (N, K)
+            touching = ((people_now - ctx.pose[:2]) ** 2).sum(axis=1) < r2  # (K,)
+            if touching.any():
+                # Escape from overlap: against a person already touching the robot, only
+                # trajectories that get closer to them are collisions.
+                forecast = ctx.people_at(trajs.t)
+                hit = hit.copy()
+                for j in np.flatnonzero(touching):
+                    dj = ((xy - forecast[None, :, j]) ** 2).sum(axis=-1)  # (N, T)
+                    hit[:, j] = ~np.all(np.diff(dj, axis=1) >= -1e-12, axis=1)
+            illegal["person_collision"] = np.asarray(hit.any(axis=1))
         return CriticScore(np.ascontiguousarray(cost, dtype=float), illegal)

@@ -29,6 +29,12 @@ Decisions and deviations:
   ``ρ >= D - √2`` (the pose and the hit point are each within ``√2 / 2`` cells of their cell
   centres), so a pose is checked only against the outline points that far out — none when
   ``D > max ρ + √2``. Skipping a point that cannot hit never changes the result.
+- Escape from overlap: when the current pose is already in collision (a person stepped into
+  the footprint), every rollout would be ``collision``. Then a trajectory is legal instead when
+  its clearance never decreases: the clearance of a pose is the smallest signed distance (m,
+  from a distance transform of the LETHAL cells: positive outside, negative inside) over its
+  footprint outline, and the centre's signed distance minus the inscribed radius, so driving
+  away from someone touching the robot is always possible; pushing deeper is not.
 - Exact early exit: a trajectory whose outline hit a LETHAL cell is ``collision`` whatever its
   later poses do, so poses are checked in time chunks and such trajectories are dropped (an
   UNKNOWN hit does not stop the check: a later LETHAL hit still makes the reason
@@ -47,6 +53,7 @@ from scipy.ndimage import distance_transform_edt
 
 from socialnav.core.geometry import FloatArray
 from socialnav.core.trajectories import Trajectories
+from socialnav.planner import kernels
 from socialnav.planner.critics.base import CRITICS, Critic, CriticScore
 from socialnav.world.grid import INSCRIBED, LETHAL, UNKNOWN
 
@@ -90,16 +97,63 @@ class OccupancyCritic(Critic):
         """Per-cycle costmap lookups shared by every batch of the cycle."""
         if not self.footprint:
             return
-        if "occupancy_outline" not in ctx.extras:
+        if ctx.cache.occupancy_outline is None:
             _prepare_outline(ctx)
-        if self.circumscribed_cost is None and "occupancy_clearance" not in ctx.extras:
+        if self.circumscribed_cost is None and ctx.cache.occupancy_clearance is None:
             _prepare_clearance(ctx)
 
     def score(self, trajs: Trajectories, ctx: PlanningContext) -> CriticScore:
         """Costmap cost ``(N,)`` along each rollout; collisions illegal."""
         geom = ctx.costmap.geometry
-        costs = ctx.costmap.costs
         poses = trajs.poses[:, 1:] if trajs.poses.shape[1] > 1 else trajs.poses
+        if kernels.enabled() and poses.dtype == np.float64:
+            worst, collision, unknown = self._scan_compiled(ctx, trajs.poses)
+        else:
+            worst, collision, unknown = self._scan_reference(ctx, poses)
+        if collision.any() and _start_in_collision(ctx, trajs.poses[0, 0], self.footprint):
+            # Escape from overlap: starting in collision, a trajectory that never reduces its
+            # clearance is legal (module docstring), so the robot can always back away.
+            collision = ~_never_closer(ctx, trajs.poses, self.footprint)
+        illegal = collision | unknown
+        if self.meter_scoring:
+            worst = worst * geom.resolution
+        cost = np.where(illegal, np.inf, worst)
+        return CriticScore(cost, {"collision": collision, "unknown": unknown & ~collision})
+
+    def _scan_compiled(
+        self, ctx: PlanningContext, poses: FloatArray
+    ) -> tuple[FloatArray, NDArray[np.bool_], NDArray[np.bool_]]:
+        """:meth:`_scan_reference` as one compiled pass over all ``poses (N, T, 3)``
+        (the first skipped when T > 1; bit-identical)."""
+        geom = ctx.costmap.geometry
+        outline_data, clearance = None, None
+        if self.footprint:
+            self.prepare(ctx)
+            outline, _, codes, pad = _outline(ctx)
+            outline_data = (outline, codes.reshape(-1), pad, codes.shape[1])
+            if self.circumscribed_cost is None:
+                clearance = _clearance(ctx)
+        cached = ctx.cache.occupancy_outline
+        return kernels.occupancy_scan(
+            poses,
+            1 if poses.shape[1] > 1 else 0,
+            ctx.costmap.costs,
+            (float(geom.origin[0]), float(geom.origin[1])),
+            geom.resolution,
+            outline_data,
+            clearance,
+            self.circumscribed_cost,
+            np.array(_outline_sizes(_NO_OUTLINE if cached is None else cached), np.intp),
+            _CHUNK_STEPS,
+        )
+
+    def _scan_reference(
+        self, ctx: PlanningContext, poses: FloatArray
+    ) -> tuple[FloatArray, NDArray[np.bool_], NDArray[np.bool_]]:
+        """Worst centre cost ``(N,)``, ``collision (N,)`` and ``unknown (N,)`` masks of the
+        scored ``poses (N, S, 3)`` (NumPy; the reference for the compiled kernel)."""
+        geom = ctx.costmap.geometry
+        costs = ctx.costmap.costs
         inv = 1.0 / geom.resolution
         col = np.floor((poses[..., 0] - geom.origin[0]) * inv).astype(np.intp)
         row = np.floor((poses[..., 1] - geom.origin[1]) * inv).astype(np.intp)
@@ -117,20 +171,17 @@ class OccupancyCritic(Critic):
             if self.circumscribed_cost is None:
                 # Outline points per pose that can reach a LETHAL/UNKNOWN cell (module doc);
                 # off-map centres are already ``unknown`` trajectories, skipped below.
-                need = ctx.extras["occupancy_need"][ctx.extras["occupancy_clearance"][row, col]]
+                clear, need_of = _clearance(ctx)
+                need = need_of[clear[row, col]]
             else:
-                k = ctx.extras["occupancy_outline"].shape[0]
+                k = _outline(ctx)[0].shape[0]
                 need = np.where(centre >= self.circumscribed_cost, k, 0).astype(np.intp)
             # Only poses of still-legal trajectories need the expensive outline test.
             need[unknown | collision] = 0
             hit, unk = _outline_hits(ctx, poses, need)
             collision |= hit
             unknown |= unk
-        illegal = collision | unknown
-        if self.meter_scoring:
-            worst = worst * geom.resolution
-        cost = np.where(illegal, np.inf, worst)
-        return CriticScore(cost, {"collision": collision, "unknown": unknown & ~collision})
+        return worst, collision, unknown
 
 
 # Margin (cells) on the clearance bound: covers rounding of the outline transform, in float32
@@ -139,6 +190,75 @@ _CLEARANCE_MARGIN = 0.05
 # Steps per early-exit chunk: trajectories with a LETHAL hit are dropped between chunks.
 _CHUNK_STEPS = 8
 _HIT, _UNSEEN = np.uint8(1), np.uint8(2)
+_NO_OUTLINE = np.zeros((1, 2))
+
+
+def _start_in_collision(ctx: PlanningContext, pose: FloatArray, footprint: bool) -> bool:
+    """Whether the pose ``(3,)`` is in collision by this critic's rules (centre or outline)."""
+    geom = ctx.costmap.geometry
+    rc = geom.world_to_cell(np.asarray(pose[:2], dtype=float))
+    if not geom.in_bounds(rc):
+        return False
+    centre = int(ctx.costmap.costs[rc[0], rc[1]])
+    if INSCRIBED <= centre < UNKNOWN:
+        return True
+    if not footprint:
+        return False
+    need = np.full((1, 1), _outline(ctx)[0].shape[0], dtype=np.intp)
+    hit, _ = _outline_hits(ctx, np.asarray(pose, dtype=float)[None, None], need)
+    return bool(hit[0])
+
+
+def _never_closer(ctx: PlanningContext, poses: FloatArray, footprint: bool) -> NDArray[np.bool_]:
+    """``(N,)``: the clearance of ``poses (N, T, 3)`` never decreases along the trajectory.
+
+    Checked in time chunks; a trajectory is dropped at its first decrease (rare work: only when
+    the robot starts in collision). The outline is sampled at the cell size here.
+    """
+    geom = ctx.costmap.geometry
+    res = geom.resolution
+    sdf = ctx.cache.occupancy_sdf
+    if sdf is None:
+        lethal = ctx.costmap.costs == LETHAL
+        if lethal.all() or not lethal.any():
+            sdf = np.where(lethal, -res, np.inf)
+        else:
+            sdf = (distance_transform_edt(~lethal) - distance_transform_edt(lethal)) * res
+        ctx.cache.occupancy_sdf = sdf
+    rows, cols = geom.shape
+    inv = 1.0 / res
+    flat_sdf = sdf.ravel()
+    outline = footprint_outline(ctx.robot.polygon, res) if footprint else np.zeros((0, 2))
+
+    def clearance(p: FloatArray) -> FloatArray:
+        """``(M, S)`` clearance of poses ``(M, S, 3)``."""
+        x = p[..., 0:1]
+        y = p[..., 1:2]
+        if outline.shape[0]:
+            c, s = np.cos(p[..., 2:3]), np.sin(p[..., 2:3])
+            x = np.concatenate([x, p[..., 0:1] + c * outline[:, 0] - s * outline[:, 1]], axis=-1)
+            y = np.concatenate([y, p[..., 1:2] + s * outline[:, 0] + c * outline[:, 1]], axis=-1)
+        col = np.floor((x - geom.origin[0]) * inv).astype(np.intp)
+        row = np.floor((y - geom.origin[1]) * inv).astype(np.intp)
+        inside = (row >= 0) & (row < rows) & (col >= 0) & (col < cols)
+        value = flat_sdf.take(np.clip(row, 0, rows - 1) * cols + np.clip(col, 0, cols - 1))
+        value = np.where(inside, value, -np.inf)
+        value[..., 0] -= ctx.robot.inscribed_radius
+        return value.min(axis=-1)
+
+    n, steps = poses.shape[:2]
+    ok = np.ones(n, dtype=bool)
+    alive = np.arange(n)
+    prev = clearance(poses[:, :1].astype(float))[:, 0]
+    for t0 in range(1, steps, _CHUNK_STEPS):
+        if not alive.size:
+            break
+        block = clearance(poses[alive, t0 : t0 + _CHUNK_STEPS].astype(float))  # (M, S)
+        seq = np.concatenate([prev[:, None], block], axis=1)
+        good = np.all(np.diff(seq, axis=1) >= -1e-9, axis=1)
+        ok[alive[~good]] = False
+        alive, prev = alive[good], block[good, -1]
+    return ok
 
 
 def _prepare_outline(ctx: PlanningContext) -> None:
@@ -148,15 +268,15 @@ def _prepare_outline(ctx: PlanningContext) -> None:
     outline = footprint_outline(ctx.robot.polygon, 0.5 * res)
     rho = np.hypot(outline[:, 0], outline[:, 1]) / res  # cells
     order = np.argsort(-rho, kind="stable")
-    ctx.extras["occupancy_outline"] = outline[order]
-    ctx.extras["occupancy_outline_rho"] = rho[order]
+    ctx.cache.occupancy_outline = outline[order]
+    ctx.cache.occupancy_outline_rho = rho[order]
     # Checked poses have their centre on the map, so every outline point lies within the
     # circumscribed radius of the map: a border that wide replaces clipping and the in-map test.
     pad = math.ceil(float(rho.max(initial=0.0))) + 2
     costs = ctx.costmap.costs
     # LETHAL (254) → 1, UNKNOWN (255) → 2, anything lower → 0
     codes = np.pad(np.maximum(costs, INSCRIBED) - np.uint8(INSCRIBED), pad, constant_values=_UNSEEN)
-    ctx.extras["occupancy_codes"] = (codes, pad)
+    ctx.cache.occupancy_codes = (codes, pad)
 
 
 def _prepare_clearance(ctx: PlanningContext) -> None:
@@ -168,14 +288,12 @@ def _prepare_clearance(ctx: PlanningContext) -> None:
     when the planner published its ``reach`` — only the box the rollouts can enter (poses
     outside it then check every point).
     """
-    if "occupancy_outline" not in ctx.extras:
-        _prepare_outline(ctx)
-    rho = ctx.extras["occupancy_outline_rho"]
+    rho = _outline(ctx)[1]
     rows, cols = ctx.costmap.geometry.shape
     # Window margin e: a hard cell outside the window is >= e + 1 cells away, beyond any reach.
     e = math.ceil(float(rho.max(initial=0.0)) + math.sqrt(2.0) + _CLEARANCE_MARGIN) + 1
     r0, r1, c0, c1 = 0, rows, 0, cols
-    reach = ctx.extras.get("reach")
+    reach = ctx.cache.reach
     if reach is not None:
         lo = ctx.costmap.geometry.world_to_cell(ctx.pose[:2] - reach)
         hi = ctx.costmap.geometry.world_to_cell(ctx.pose[:2] + reach)
@@ -205,8 +323,39 @@ def _prepare_clearance(ctx: PlanningContext) -> None:
     need = np.count_nonzero(
         rho[None, :] >= (levels - math.sqrt(2.0) - _CLEARANCE_MARGIN)[:, None], axis=1
     )
-    ctx.extras["occupancy_clearance"] = clear
-    ctx.extras["occupancy_need"] = need.astype(np.intp)
+    ctx.cache.occupancy_clearance = clear
+    ctx.cache.occupancy_need = need.astype(np.intp)
+
+
+def _outline(ctx: PlanningContext) -> tuple[FloatArray, FloatArray, NDArray[np.uint8], int]:
+    """The cycle's sorted outline ``(K, 2)``, its radii ``(K,)`` (cells), the padded hit-code
+    map and its pad (cells); prepared on first use."""
+    cache = ctx.cache
+    if cache.occupancy_outline is None:
+        _prepare_outline(ctx)
+    outline, rho, packed = (
+        cache.occupancy_outline,
+        cache.occupancy_outline_rho,
+        cache.occupancy_codes,
+    )
+    assert outline is not None and rho is not None and packed is not None
+    return outline, rho, packed[0], packed[1]
+
+
+def _clearance(ctx: PlanningContext) -> tuple[NDArray[np.uint16], NDArray[np.intp]]:
+    """The cycle's ``occupancy_clearance`` and ``occupancy_need``; prepared on first use."""
+    cache = ctx.cache
+    if cache.occupancy_clearance is None:
+        _prepare_clearance(ctx)
+    clear, need = cache.occupancy_clearance, cache.occupancy_need
+    assert clear is not None and need is not None
+    return clear, need
+
+
+def _outline_sizes(outline: FloatArray) -> list[int]:
+    """Poses are grouped by how many outline points they need, rounded up to K, K/2, K/4, ..."""
+    k_all = outline.shape[0]
+    return sorted({max(1, math.ceil(k_all / 2**j)) for j in range(5)})
 
 
 def _outline_hits(
@@ -216,13 +365,11 @@ def _outline_hits(
     ``need (N, T)`` sorted outline points of each pose (0: skip the pose)."""
     geom = ctx.costmap.geometry
     n, steps = need.shape
-    outline = ctx.extras["occupancy_outline"].astype(poses.dtype)  # (K, 2), far first
-    codes, pad = ctx.extras["occupancy_codes"]
+    outline_k, _, codes, pad = _outline(ctx)
+    outline = outline_k.astype(poses.dtype)  # (K, 2), far first
     flat_codes = codes.ravel()
     width = codes.shape[1]
-    k_all = outline.shape[0]
-    # Poses are grouped by how many points they need, rounded up to K, K/2, K/4, ...
-    sizes = sorted({max(1, math.ceil(k_all / 2**j)) for j in range(5)})
+    sizes = _outline_sizes(outline)
     sizes_arr = np.array(sizes)
     inv = 1.0 / geom.resolution
     hit = np.zeros(n, dtype=bool)

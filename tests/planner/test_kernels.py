@@ -1,0 +1,288 @@
+"""The compiled kernels against the NumPy reference: bit-identical poses, critic costs, illegal
+masks and selections on random scenes (``socialnav.planner.kernels``)."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from contextlib import contextmanager
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from socialnav.core.robot import PIONEER, PR2
+from socialnav.core.scene import Group, Person, SocialContext
+from socialnav.planner import kernels
+from socialnav.planner.context import PlanningContext
+from socialnav.planner.critics import (
+    GoalDistanceCritic,
+    GroupCritic,
+    HeadingCritic,
+    InterpersonalCritic,
+    OccupancyCritic,
+    PathDistanceCritic,
+)
+from socialnav.planner.critics.base import CriticScore, CriticUnavailable
+from socialnav.planner.local_planner import LocalPlannerParams
+from socialnav.planner.presets import build_local_planner
+from socialnav.planner.rollout import RolloutParams, rollout
+from socialnav.world.costmap import add_obstacle_discs
+from socialnav.world.grid import GridGeometry
+from socialnav.world.inflation import inflate
+from socialnav.world.raster import rasterize
+
+pytest.importorskip("numba")
+
+
+@contextmanager
+def compiled(flag: bool) -> Iterator[None]:
+    previous = kernels.set_enabled(flag)
+    try:
+        yield
+    finally:
+        kernels.set_enabled(previous)
+
+
+def scene(seed: int, n_people: int, robot=PR2):
+    """A 4 m × 4 m window with random boxes and people; the robot somewhere free-ish (it may
+    touch an obstacle or a person: the escape-from-overlap branches are exercised too)."""
+    rng = np.random.default_rng(seed)
+    geom = GridGeometry((80, 80), 0.05)
+    boxes = []
+    for _ in range(rng.integers(0, 6)):
+        x, y = rng.uniform(0.0, 4.0, 2)
+        w, h = rng.uniform(0.1, 0.8, 2)
+        boxes.append(np.array([[x, y], [x + w, y], [x + w, y + h], [x, y + h]]))
+    occ = rasterize(geom, polygons=boxes, thickness=0.1)
+    costmap = inflate(occ, geom, robot.inscribed_radius)
+    pose = np.array([*rng.uniform(0.8, 3.2, 2), rng.uniform(-np.pi, np.pi)])
+    people = tuple(
+        Person(
+            i,
+            tuple(pose[:2] + rng.uniform(-2.0, 2.0, 2)),
+            tuple(rng.uniform(-1.5, 1.5, 2) * (rng.random() < 0.6)),
+        )
+        for i in range(n_people)
+    )
+    groups = (Group((0, 1, 2)),) if n_people >= 3 else ()
+    social = SocialContext(people, groups)
+    if people and rng.random() < 0.5:
+        discs = np.column_stack([social.positions(), social.radii()])
+        costmap = add_obstacle_discs(costmap, discs, robot.inscribed_radius)
+    goal = np.array([*rng.uniform(0.2, 3.8, 2), 0.0])
+    path = np.linspace(pose[:2], goal[:2], 40)
+    vel = np.array([rng.uniform(0.0, 0.5), 0.0, rng.uniform(-0.3, 0.3)])
+    return costmap, pose, vel, goal, path, social
+
+
+def context(robot, costmap, pose, vel, goal, path, social, predict=True) -> PlanningContext:
+    return PlanningContext(
+        pose, vel, goal, path, costmap, robot, social=social, predict_people=predict
+    )
+
+
+@settings(max_examples=40)
+@given(
+    seed=st.integers(0, 2**31 - 1),
+    n=st.integers(1, 300),
+    sim_time=st.floats(0.1, 3.0),
+    gran=st.floats(0.01, 0.2),
+    big=st.booleans(),
+)
+def test_rollout_bit_identical(seed: int, n: int, sim_time: float, gran: float, big: bool) -> None:
+    rng = np.random.default_rng(seed)
+    scale = 50.0 if big else 1.0  # angles far beyond pi exercise the wrap's fmod branch
+    twists = rng.uniform(-1.0, 1.0, (n, 3)) * np.array([1.0, 1.0, scale])
+    pose = np.array([*rng.uniform(-1e3, 1e3, 2), rng.uniform(-10.0, 10.0)])
+    params = RolloutParams(sim_time, gran, max(gran, 0.05))
+    with compiled(False):
+        ref = rollout(pose, pose, twists, PR2, params)
+    with compiled(True):
+        fast = rollout(pose, pose, twists, PR2, params)
+    assert fast.poses.dtype == ref.poses.dtype
+    np.testing.assert_array_equal(fast.t, ref.t)
+    assert np.array_equal(fast.poses, ref.poses)
+
+
+@settings(max_examples=40)
+@given(
+    seed=st.integers(0, 2**31 - 1),
+    people=st.integers(0, 12),
+    footprint=st.booleans(),
+    circumscribed=st.sampled_from([None, 1, 128, 252]),
+    predict=st.booleans(),
+)
+def test_critics_bit_identical(
+    seed: int, people: int, footprint: bool, circumscribed: int | None, predict: bool
+) -> None:
+    robot = PR2 if seed % 2 else PIONEER
+    costmap, pose, vel, goal, path, social = scene(seed, people, robot)
+    rng = np.random.default_rng(seed + 1)
+    twists = rng.uniform(-1.0, 1.0, (150, 3)) * np.array([1.0, robot.max_vel_y, 1.5])
+    critics = [
+        OccupancyCritic(footprint=footprint, circumscribed_cost=circumscribed),
+        InterpersonalCritic(evaluation="max_over_time"),
+        InterpersonalCritic(distance="edge", person_slot=1),
+        GroupCritic(),
+        GroupCritic(evaluation="max_over_time", illegal_inside=True),
+        GroupCritic(illegal_inside=True, influence_range=1.0),
+        HeadingCritic(near_goal=0.0),
+        PathDistanceCritic(),
+        GoalDistanceCritic(),
+    ]
+    params = RolloutParams(1.7, 0.025, 0.1)
+    results = {}
+    for flag in (False, True):
+        with compiled(flag):
+            ctx = context(robot, costmap, pose, vel, goal, path, social, predict)
+            ctx.cache.reach = 3.0
+            trajs = rollout(pose, vel, twists, robot, params)
+            scores = []
+            for c in critics:
+                try:
+                    scores.append(c.score(trajs, ctx))
+                except CriticUnavailable as exc:  # e.g. no plan cell in the window
+                    scores.append(CriticScore(np.full(len(trajs), np.nan), {str(exc): None}))
+            results[flag] = scores
+    for ref, fast in zip(results[False], results[True], strict=True):
+        assert np.array_equal(ref.cost, fast.cost, equal_nan=True)
+        assert ref.illegal.keys() == fast.illegal.keys()
+        for key in ref.illegal:
+            assert np.array_equal(ref.illegal[key], fast.illegal[key]), key
+
+
+@settings(max_examples=25)
+@given(
+    seed=st.integers(0, 2**31 - 1),
+    people=st.integers(0, 10),
+    preset=st.sampled_from(["traditional", "paccet", "paccet_paper", "weighted_social"]),
+)
+def test_planner_selections_identical(seed: int, people: int, preset: str) -> None:
+    costmap, pose, vel, goal, path, social = scene(seed, people)
+    params = LocalPlannerParams(5, 3, 7)
+    out = {}
+    for flag in (False, True):
+        with compiled(flag):
+            planner = build_local_planner(preset, PR2, social, params)
+            results = []
+            for k in range(3):  # a few cycles: stateful selection (PaCcET archive) too
+                p = pose + np.array([0.02 * k, 0.0, 0.01 * k])
+                ctx = context(PR2, costmap, p, vel, goal, path, social)
+                results.append(planner.plan(ctx, record=True))
+            out[flag] = results
+    for ref, fast in zip(out[False], out[True], strict=True):
+        assert ref.status == fast.status
+        assert np.array_equal(ref.cmd, fast.cmd)
+        assert ref.record is not None and fast.record is not None
+        assert ref.record.chosen == fast.record.chosen
+        assert np.array_equal(ref.record.F, fast.record.F)
+        assert np.array_equal(ref.record.legal, fast.record.legal)
+
+
+def test_environment_selects_reference(monkeypatch: pytest.MonkeyPatch) -> None:
+    """``SOCIALNAV_KERNELS=reference`` turns the compiled path off at import."""
+    import importlib
+
+    was = kernels.enabled()
+    monkeypatch.setenv("SOCIALNAV_KERNELS", "reference")
+    module = importlib.reload(kernels)
+    try:
+        assert not module.enabled()
+    finally:
+        monkeypatch.undo()
+        importlib.reload(kernels)
+        kernels.set_enabled(was)
+
+
+def test_warmup_compiles_ahead() -> None:
+    """After :func:`warmup`, the planner's calls hit compiled signatures (no compile in a step)."""
+    if not kernels.enabled():
+        pytest.skip("reference path selected")
+    kernels.warmup()
+    sigs = {
+        k: len(f.signatures)
+        for k, f in {
+            "rollout": kernels._rollout_kernel,
+            "occupancy": kernels._occupancy_kernel,
+            "d2min": kernels._d2min_kernel,
+        }.items()
+    }
+    costmap, pose, vel, goal, path, social = scene(3, 5)
+    planner = build_local_planner("paccet", PR2, social, LocalPlannerParams(5, 3, 7))
+    planner.plan(context(PR2, costmap, pose, vel, goal, path, social))
+    after = {
+        "rollout": len(kernels._rollout_kernel.signatures),
+        "occupancy": len(kernels._occupancy_kernel.signatures),
+        "d2min": len(kernels._d2min_kernel.signatures),
+    }
+    assert after == sigs
+
+
+@settings(max_examples=40)
+@given(
+    seed=st.integers(0, 2**31 - 1),
+    density=st.floats(0.0, 0.6),
+    n_seeds=st.integers(1, 30),
+    settle=st.booleans(),
+)
+def test_bfs_grid_identical(seed: int, density: float, n_seeds: int, settle: bool) -> None:
+    """Identical step counts inside the settle region; outside it the reference is exact or
+    inf, and the compiled flood (exact everywhere) agrees wherever the reference is finite."""
+    from socialnav.planner.critics.map_grid import bfs_distance
+
+    rng = np.random.default_rng(seed)
+    shape = tuple(rng.integers(5, 60, 2))
+    passable = rng.random(shape) >= density
+    seeds = np.column_stack(
+        [rng.integers(0, shape[0], n_seeds), rng.integers(0, shape[1], n_seeds)]
+    )
+    box = (slice(shape[0] // 4, shape[0] // 2 + 1), slice(shape[1] // 4, shape[1] // 2 + 1))
+    region = box if settle else None
+    with compiled(False):
+        ref = bfs_distance(passable, seeds, region)
+    with compiled(True):
+        fast = bfs_distance(passable, seeds, region)
+    assert fast.dtype == ref.dtype
+    if region is None:
+        assert np.array_equal(ref, fast)
+    else:
+        assert np.array_equal(ref[region], fast[region])
+        finite = np.isfinite(ref)
+        assert np.array_equal(ref[finite], fast[finite])
+
+
+@settings(max_examples=30)
+@given(
+    seed=st.integers(0, 2**31 - 1),
+    density=st.floats(0.0, 0.5),
+    neutral=st.floats(1.0, 100.0),
+    factor=st.floats(0.0, 5.0),
+)
+def test_global_plan_identical(seed: int, density: float, neutral: float, factor: float) -> None:
+    """Same graph weights bit for bit, hence the same Dijkstra plan and cost."""
+    from socialnav.planner.global_planner import grid_graph, plan_path, traversable
+    from socialnav.world.grid import Costmap
+
+    rng = np.random.default_rng(seed)
+    shape = tuple(int(v) for v in rng.integers(3, 50, 2))
+    costs = rng.integers(0, 253, shape).astype(np.uint8)
+    costs[rng.random(shape) < density] = 254
+    costs[rng.random(shape) < 0.05] = 255
+    costmap = Costmap(costs, GridGeometry(shape, 0.1))
+    passable = traversable(costs, allow_unknown=bool(seed % 2))
+    start = rng.uniform(0.0, 0.1 * np.array(shape[::-1]), 2)
+    goal = rng.uniform(0.0, 0.1 * np.array(shape[::-1]), 2)
+    out = {}
+    for flag in (False, True):
+        with compiled(flag):
+            g = grid_graph(costs, 0.1, passable, neutral, factor)
+            plan = plan_path(costmap, start, goal, neutral, factor, tolerance=0.3)
+            out[flag] = (g, plan)
+    (g0, p0), (g1, p1) = out[False], out[True]
+    assert np.array_equal(g0.data, g1.data)
+    assert np.array_equal(g0.indices, g1.indices) and np.array_equal(g0.indptr, g1.indptr)
+    assert p0.status == p1.status and p0.cost == p1.cost
+    assert (p0.path is None) == (p1.path is None)
+    if p0.path is not None:
+        assert np.array_equal(p0.path, p1.path)
