@@ -124,6 +124,9 @@ def run_episode(
     wall_start = _time.perf_counter()
     scn = load_scenario(scenario) if isinstance(scenario, str) else scenario
     scn = scn.randomize(seed, vary_group_sizes=vary_group_sizes)
+    if scn.humans is not None:  # the scene needs its own human model (CrowdNav's ORCA crowd)
+        humans = scn.humans
+        reactive_behavior = scn.reactive_behavior or reactive_behavior
     model = _robot_model(robot)
     social0 = scn.social_context(scn.start)
     target = resolve_target(scn, social0)
@@ -214,6 +217,7 @@ def run_episode(
             "humans": humans,
             "reactive_behavior": reactive_behavior if humans == "reactive" else None,
             "termination": reason,
+            "success_options": scn.success.model_dump(),
             "engine": f"navground {core.get_build_info().version_string}",
             **target.meta,
         },

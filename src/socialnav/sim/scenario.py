@@ -41,8 +41,29 @@ from socialnav.core.scene import HUMAN_RADIUS, Artwork, Group, Person, Queue, So
 from socialnav.social.spaces import fit_circle
 from socialnav.world.grid import Costmap, GridGeometry
 
-#: scenario families of the paper; "custom" = no family-specific success conditions
-FAMILIES = ("hallway", "gallery_present", "gallery_activity", "queue", "group", "custom")
+#: scenario families: the paper's, the generated suite's ``mixed`` (a group or queue plus
+#: walkers) and ``crowdnav`` (Chen et al. 2019's circle crossing); "custom" = no family-specific
+#: success conditions
+FAMILIES = (
+    "hallway",
+    "gallery_present",
+    "gallery_activity",
+    "queue",
+    "group",
+    "mixed",
+    "crowdnav",
+    "custom",
+)
+FamilyName = Literal[
+    "hallway",
+    "gallery_present",
+    "gallery_activity",
+    "queue",
+    "group",
+    "mixed",
+    "crowdnav",
+    "custom",
+]
 DISC_POLYGON_SIDES = 24
 
 
@@ -172,12 +193,31 @@ class Walk(_Model):
         return float(np.dot(np.asarray(self.until) - np.asarray(start), direction))
 
 
+class Track(_Model):
+    """A recorded or precomputed path: ``points[k]`` is the position at ``t = k·dt`` (s); the
+    person stops at the last point. People on a track ignore the robot (CrowdNav's "invisible
+    robot" test bank: the crowd's ORCA paths are computed without the robot)."""
+
+    type: Literal["track"] = "track"
+    dt: Positive
+    points: list[Vec2] = Field(min_length=2)
+
+    def direction_speed(self) -> tuple[FloatArray, float]:
+        """Unit direction ``(2,)`` and speed (m/s) of the first segment (a still first
+        segment gives direction +x and speed 0)."""
+        d = np.asarray(self.points[1], dtype=float) - np.asarray(self.points[0], dtype=float)
+        n = float(np.linalg.norm(d))
+        if n == 0.0:
+            return np.array([1.0, 0.0]), 0.0
+        return d / n, n / self.dt
+
+
 class PersonSpec(_Model):
     id: int
     position: Vec2
     yaw: Finite | None = Field(None, description="default: the walking heading, else 0")
     radius: Positive = HUMAN_RADIUS
-    behavior: Stand | Walk = Field(default_factory=Stand, discriminator="type")
+    behavior: Stand | Walk | Track = Field(default_factory=Stand, discriminator="type")
     reactive_goal: Vec2 | None = Field(
         None, description="target for --humans reactive (default: walk end, or stay in place)"
     )
@@ -186,6 +226,10 @@ class PersonSpec(_Model):
     def _check(self) -> PersonSpec:
         if isinstance(self.behavior, Walk) and self.behavior.length(self.position) <= 0:
             raise ValueError("behavior.until lies behind the start (or on it)")
+        if isinstance(self.behavior, Track) and tuple(self.behavior.points[0]) != tuple(
+            self.position
+        ):
+            raise ValueError("behavior.points.0 must equal position")
         return self
 
     @property
@@ -193,19 +237,21 @@ class PersonSpec(_Model):
         """The yaw the person faces (rad)."""
         if self.yaw is not None:
             return float(self.yaw)
-        if isinstance(self.behavior, Walk):
+        if isinstance(self.behavior, Walk | Track):
             d, _ = self.behavior.direction_speed()
             return float(math.atan2(d[1], d[0]))
         return 0.0
 
     def initial_velocity(self) -> FloatArray:
-        if isinstance(self.behavior, Walk):
+        if isinstance(self.behavior, Walk | Track):
             d, speed = self.behavior.direction_speed()
             return d * speed
         return np.zeros(2)
 
     def end_point(self) -> FloatArray | None:
-        """Where a scripted walk ends (``None`` for standing people or endless walks)."""
+        """Where a scripted walk or track ends (``None`` for standing people or endless walks)."""
+        if isinstance(self.behavior, Track):
+            return np.asarray(self.behavior.points[-1], dtype=float)
         if not isinstance(self.behavior, Walk):
             return None
         length = self.behavior.length(self.position)
@@ -242,6 +288,46 @@ class Jitter(_Model):
     start_shift: NonNegative = Field(
         0.0, description="uniform ± shift of a walker's start along its walking line (m)"
     )
+    lateral_shift: NonNegative = Field(
+        0.0,
+        description="uniform ± shift of a walker's whole line sideways, perpendicular to its "
+        "walking direction (m); drawn from its own stream, so other draws do not change",
+    )
+
+
+# --- success options and feasibility (per scenario) ------------------------------------------
+
+
+class ConditionOption(_Model):
+    """Whether one success condition counts toward ``success``, and why not."""
+
+    required: bool = True
+    reason: str = Field("", description="why the condition is not required (shown in reports)")
+
+
+class SuccessOptions(_Model):
+    """Per-scenario tolerances and required conditions (``metrics.success`` reads them).
+
+    Unset tolerances keep the family defaults (the paper suite's). ``conditions`` maps a
+    condition name to its option; ``per_robot`` overrides it for one robot model (a corridor
+    wide enough for one robot's clearance may not be for another's).
+    """
+
+    position_tolerance: Positive | None = Field(
+        None, description="m: arrival at the target (and social spot) counts within this"
+    )
+    yaw_tolerance: Positive | None = Field(
+        None, description="rad: arrival also needs the final yaw this close to the target's"
+    )
+    heading_tolerance: Positive | None = Field(
+        None, description="rad: facing conditions (queue, group, viewer); default 0.5"
+    )
+    conditions: dict[str, ConditionOption] = Field(default_factory=dict)
+    per_robot: dict[str, dict[str, ConditionOption]] = Field(default_factory=dict)
+
+    def for_robot(self, robot: str) -> dict[str, ConditionOption]:
+        """Condition options for ``robot``: ``conditions`` updated by ``per_robot[robot]``."""
+        return {**self.conditions, **self.per_robot.get(robot, {})}
 
 
 # --- the scenario ---------------------------------------------------------------------------
@@ -251,7 +337,7 @@ class Scenario(_Model):
     """One test situation: map, robot start and given goal, people and their social structure."""
 
     name: str
-    family: Literal["hallway", "gallery_present", "gallery_activity", "queue", "group", "custom"]
+    family: FamilyName
     description: str = ""
     map: MapSpec = Field(default_factory=MapSpec)
     start: Pose
@@ -265,6 +351,18 @@ class Scenario(_Model):
     control_period: Positive = 0.1
     seed: int = 0
     jitter: Jitter = Field(default_factory=Jitter)
+    humans: Literal["scripted", "reactive"] | None = Field(
+        None, description="the human model this scene needs (overrides the run's default)"
+    )
+    reactive_behavior: Literal["HL", "ORCA", "SocialForce"] | None = Field(
+        None, description="navground behaviour of reactive people (default HL)"
+    )
+    success: SuccessOptions = Field(default_factory=SuccessOptions)
+    feasibility: dict[str, dict[str, float | bool | str]] = Field(
+        default_factory=dict,
+        description="facts per robot model that the success conditions rely on (generated "
+        "scenes: largest clearance per person, passage, reachable social spot)",
+    )
 
     _source: Path | None = PrivateAttr(default=None)
 
@@ -457,6 +555,7 @@ class Scenario(_Model):
         rest of the circle, facing the centre (queue/artwork people are never moved off).
         """
         rng = np.random.default_rng(seed)
+        lateral_rng = np.random.default_rng([seed, 1])  # own stream: older draws unchanged
         j = self.jitter
         people: list[PersonSpec] = []
         for p in self.people:
@@ -464,12 +563,21 @@ class Scenario(_Model):
             d_pos = rng.normal(0.0, 1.0, 2) * j.position_sigma
             d_speed = rng.normal(0.0, 1.0) * j.speed_sigma + rng.uniform(-1, 1) * j.speed_uniform
             d_start = rng.uniform(-1, 1) * j.start_shift
+            d_lateral = lateral_rng.uniform(-1, 1) * j.lateral_shift
+            if isinstance(p.behavior, Track):  # a track is data: never jittered
+                people.append(p)
+                continue
             pos = np.asarray(p.position, dtype=float) + d_pos
             update: dict[str, Any] = {}
             if isinstance(p.behavior, Walk):
                 direction, speed = p.behavior.direction_speed()
-                pos = pos + direction * d_start
+                normal = np.array([-direction[1], direction[0]])
+                pos = pos + direction * d_start + normal * d_lateral
                 new_speed = max(speed + d_speed, 0.05)
+                shifted = {}
+                if p.behavior.until is not None and d_lateral:
+                    until = np.asarray(p.behavior.until, dtype=float) + normal * d_lateral
+                    shifted["until"] = (float(until[0]), float(until[1]))
                 walk = p.behavior.model_copy(
                     update={
                         "velocity": (
@@ -478,6 +586,7 @@ class Scenario(_Model):
                         ),
                         "speed": None,
                         "heading": None,
+                        **shifted,
                     }
                 )
                 update["behavior"] = walk
