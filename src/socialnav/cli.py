@@ -58,11 +58,20 @@ def run(
 @app.command()
 def compare(
     out: Annotated[Path, typer.Option(help="Report folder.")] = Path("report"),
-    suite: Annotated[str, typer.Option(help="paper, reactive or randomized.")] = "paper",
+    suite: Annotated[str, typer.Option(help="paper, reactive, randomized or generated.")] = "paper",
     planners: Annotated[str, typer.Option(help="Comma-separated planner names; default all.")] = "",
     robots: Annotated[str, typer.Option(help="Comma-separated robot models.")] = "pr2,pioneer",
     scenarios: Annotated[str, typer.Option(help="Comma-separated scenarios; default all.")] = "",
-    seeds: Annotated[int | None, typer.Option(help="Seeds per scenario (randomized: 20).")] = None,
+    seeds: Annotated[
+        str | None,
+        typer.Option(
+            help="Seeds: N (= 0:N) or A:B. Paper/randomized: N per scenario (randomized: 20). "
+            "Generated: below 10000 development, 10000 and up reporting (default 10000:10020)."
+        ),
+    ] = None,
+    families: Annotated[
+        str, typer.Option(help="Generated suite: comma-separated families; default all.")
+    ] = "",
     jobs: Annotated[int, typer.Option(help="Parallel workers; -1 = all cores.")] = -1,
     resume: Annotated[bool, typer.Option(help="Skip runs already in the report folder.")] = True,
 ) -> None:
@@ -76,19 +85,27 @@ def compare(
     from socialnav.report.build import build_report
     from socialnav.sim.scenario import builtin_scenarios, load_scenario
 
-    if suite not in ("paper", "reactive", "randomized"):
-        _fail(f"unknown suite {suite!r}; use paper, reactive or randomized")
+    if suite not in ("paper", "reactive", "randomized", "generated"):
+        _fail(f"unknown suite {suite!r}; use paper, reactive, randomized or generated")
     try:
         planner_names = _split(planners) or PLANNERS.names()
         for name in planner_names:
             PLANNERS.get(name)
         for name in _split(robots):
             check_robot(name)
-        for name in _split(scenarios):
-            load_scenario(name)  # an unknown name fails here, not as one error row per run
-        specs = suite_specs(
-            suite, _split(scenarios) or builtin_scenarios(), planner_names, _split(robots), seeds
-        )
+        if suite == "generated":
+            specs = _generated_specs(families, planner_names, _split(robots), seeds)
+        else:
+            for name in _split(scenarios):
+                load_scenario(name)  # an unknown name fails here, not as one error row per run
+            n_seeds = None if seeds is None else len(_seed_range(seeds))
+            specs = suite_specs(
+                suite,
+                _split(scenarios) or builtin_scenarios(),
+                planner_names,
+                _split(robots),
+                n_seeds,
+            )
     except ConfigurationError as exc:
         _fail(str(exc))
         return
@@ -104,9 +121,37 @@ def compare(
             bar.update(task, completed=done, total=total)
 
         rows = run_suite(specs, out, n_jobs=jobs, resume=resume, progress=advance)
-    report = build_report(rows, out, suite=suite)
+    if suite == "generated":
+        from socialnav.report.generated import build_generated_report
+
+        report = build_generated_report(rows, out)
+    else:
+        report = build_report(rows, out, suite=suite)
     failed = sum(1 for r in rows if r.get("error"))
     typer.echo(f"{len(rows)} runs ({failed} errors) → {report}")
+
+
+def _seed_range(text: str) -> range:
+    from socialnav.core.errors import ConfigurationError
+    from socialnav.experiments.suite import parse_seeds
+
+    try:
+        return parse_seeds(text)
+    except ValueError as exc:
+        raise ConfigurationError(str(exc)) from None
+
+
+def _generated_specs(
+    families: str, planners: list[str], robots: list[str], seeds: str | None
+) -> list:
+    """The generated suite's runs (``socialnav.sim.generate``)."""
+    from socialnav.experiments.suite import generated_specs
+    from socialnav.sim.generate import GENERATORS
+
+    names = _split(families) or GENERATORS.names()
+    for name in names:
+        GENERATORS.get(name)
+    return generated_specs(names, planners, robots, _seed_range(seeds or "10000:10020"))
 
 
 @app.command()

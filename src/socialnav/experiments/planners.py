@@ -51,7 +51,12 @@ def run_planner_episode(spec: Any, record_diagnostics: bool = False) -> Any:
     from socialnav.sim.scenario import load_scenario
 
     entry = PLANNERS.get(spec.planner)
-    scenario = load_scenario(spec.scenario)
+    if spec.scenario.startswith("generated:"):
+        from socialnav.sim.generate import generate
+
+        scenario = generate(spec.scenario.removeprefix("generated:"), spec.seed)
+    else:
+        scenario = load_scenario(spec.scenario)
     if spec.randomize:
         scenario = scenario.model_copy(update={"jitter": RANDOMIZED_JITTER})
     robot = ROBOT_MODELS[spec.robot]

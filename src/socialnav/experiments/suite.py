@@ -22,6 +22,8 @@ RESULTS_FILE = "results.parquet"
 TABLE1_SCENARIO = "hallway_passing"
 TABLE1_SEEDS = (0, 1, 2, 3, 4)
 CHECKPOINT_EVERY = 25
+#: ``EpisodeSpec.scenario`` of a generated scene: ``"generated:<family>"``, the seed picks it
+GENERATED_PREFIX = "generated:"
 
 
 @dataclass(frozen=True)
@@ -37,7 +39,8 @@ class EpisodeSpec:
 
     @property
     def run_id(self) -> str:
-        name = Path(self.scenario).stem
+        name = self.scenario.replace(GENERATED_PREFIX, "gen_")
+        name = Path(name).stem if not self.scenario.startswith(GENERATED_PREFIX) else name
         suffix = "_rand" if self.randomize else ""
         return f"{name}__{self.planner}__{self.robot}__{self.humans}{suffix}__s{self.seed}"
 
@@ -79,6 +82,44 @@ def suite_specs(
     return specs
 
 
+# --- the generated suite ----------------------------------------------------------------------
+
+
+def parse_seeds(text: str) -> range:
+    """``"A:B"`` → seeds A..B-1; a bare ``"N"`` → 0..N-1. Raises ValueError on anything else."""
+    parts = text.split(":")
+    try:
+        if len(parts) == 1:
+            lo, hi = 0, int(parts[0])
+        elif len(parts) == 2:
+            lo, hi = int(parts[0]), int(parts[1])
+        else:
+            raise ValueError
+    except ValueError:
+        raise ValueError(f"--seeds: expected N or A:B, got {text!r}") from None
+    if lo < 0 or hi <= lo:
+        raise ValueError(f"--seeds: need 0 <= A < B, got {text!r}")
+    return range(lo, hi)
+
+
+def generated_specs(
+    families: Sequence[str],
+    planners: Sequence[str],
+    robots: Sequence[str],
+    seeds: Iterable[int],
+) -> list[EpisodeSpec]:
+    """Every family × planner × robot × seed of the generated suite (``socialnav.sim.generate``;
+    seeds below 10,000 are the development split, 10,000 and up the reporting split)."""
+    seeds = list(seeds)
+    return [
+        EpisodeSpec(scenario=f"{GENERATED_PREFIX}{f}", planner=p, robot=r, seed=s)
+        for f in families
+        for p in planners
+        for r in robots
+        for s in seeds
+    ]
+
+
 def run_spec(
     spec: EpisodeSpec, out_dir: Path | None = None, figure: bool = False
 ) -> dict[str, Any]:
@@ -88,12 +129,17 @@ def run_spec(
     try:
         from socialnav.experiments.planners import run_planner_episode
         from socialnav.metrics import compute_metrics
-        from socialnav.metrics.success import evaluate_success
+        from socialnav.metrics.success import evaluate_success, success_conditions
 
         result = run_planner_episode(spec)
         record = result.record
         row.update({f"metric.{k}": float(v) for k, v in compute_metrics(record).items()})
         row.update({f"ok.{k}": bool(v) for k, v in evaluate_success(record).items()})
+        conditions = success_conditions(record)
+        row["failed_required"] = ",".join(c.name for c in conditions if c.required and not c.passed)
+        row["not_required"] = "; ".join(
+            f"{c.name}: {c.reason}" if c.reason else c.name for c in conditions if not c.required
+        )
         row["family"] = record.family
         row["steps"] = record.num_steps
         row["planner_ms_median"] = float(record.meta.get("planner_ms_median", np.nan))

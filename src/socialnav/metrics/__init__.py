@@ -5,7 +5,14 @@
 scenario suite's success conditions. Never imports ``sim`` or ``planner``.
 """
 
-from socialnav.metrics import motion, proxemics, scenario, table1, task  # noqa: F401 (register)
+from socialnav.metrics import (  # noqa: F401 (register)
+    crowdnav,
+    motion,
+    proxemics,
+    scenario,
+    table1,
+    task,
+)
 from socialnav.metrics.base import METRICS, Metric, compute_metrics, metric, validate_record
 from socialnav.metrics.success import Condition, evaluate_success, success_conditions
 

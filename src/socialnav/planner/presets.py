@@ -78,6 +78,8 @@ class PlannerPreset:
     social_global_path: bool = False
     predict_people: bool = True
     params: LocalPlannerParams = field(default_factory=LocalPlannerParams)
+    #: (m, rad) replacing the social goal's own arrival tolerances; None keeps them
+    spot_tolerance: tuple[float, float] | None = None
 
 
 PRESETS: Registry[PlannerPreset] = Registry("planner preset")
@@ -110,13 +112,17 @@ def paper_objectives(
 
 
 def recommended_objectives(
-    social: SocialContext, social_goal: bool, params: LocalPlannerParams
+    social: SocialContext,
+    social_goal: bool,
+    params: LocalPlannerParams,
+    partner_distance: bool = False,
 ) -> list[tuple[Objective, float]]:
     """Navigation (to the social goal), one ID over all people forecast along the rollout, GD,
-    SGD near the social goal, activity space."""
+    SGD near the social goal, activity space; ``partner_distance``: the people the social goal
+    is about get the interaction's own distance in ID (``InterpersonalCritic``)."""
     out = [(traditional_objectives(params)[0], PAPER_WEIGHTS["navigation"])]
     if social.people:
-        critic = InterpersonalCritic(evaluation="max_over_time")
+        critic = InterpersonalCritic(evaluation="max_over_time", partner_distance=partner_distance)
         out.append((Objective("ID", ((critic, 1.0),)), PAPER_WEIGHTS["ID"]))
     if social.groups:
         critic = GroupCritic(evaluation="max_over_time", illegal_inside=True)
@@ -130,6 +136,20 @@ def recommended_objectives(
         critic = ActivitySpaceCritic(measure="max_depth")
         out.append((Objective("AS", ((critic, 1.0),)), PAPER_WEIGHTS["AS"]))
     return out
+
+
+def partner_objectives(
+    social: SocialContext, social_goal: bool, params: LocalPlannerParams
+) -> list[tuple[Objective, float]]:
+    """:func:`recommended_objectives` with interaction partners at their own distance."""
+    return recommended_objectives(social, social_goal, params, partner_distance=True)
+
+
+#: ``paccet``'s arrival at a social spot (m, rad): inside the generated suite's 0.10 m / 0.2 rad
+#: (the social goals' default 0.25 m / 0.25 rad ends 0.24–0.25 m from the spot)
+RECOMMENDED_SPOT_TOLERANCE = (0.07, 0.15)
+#: ``paccet``'s local-planner parameters: the given goal's tolerance inside 0.10 m too
+RECOMMENDED_PARAMS = LocalPlannerParams(xy_goal_tolerance=0.07)
 
 
 def paper_selection(weights: list[float]) -> SelectionStrategy:
@@ -200,10 +220,12 @@ PRESETS.add(
     "paccet",
     PlannerPreset(
         "PaCcET, recommended: forecast people, L1 target, remedies on, social global path",
-        recommended_objectives,
+        partner_objectives,
         recommended_selection,
         social_goal=True,
         social_global_path=True,
+        params=RECOMMENDED_PARAMS,
+        spot_tolerance=RECOMMENDED_SPOT_TOLERANCE,
     ),
 )
 
@@ -216,8 +238,9 @@ class StickySocialGoal:
     moves. It is recomputed when any person moved more than ``moved`` metres.
     """
 
-    def __init__(self, moved: float = 0.3) -> None:
+    def __init__(self, moved: float = 0.3, tolerance: tuple[float, float] | None = None) -> None:
         self.moved = moved
+        self.tolerance = tolerance
         self._positions: np.ndarray | None = None
         self._goal: Any = None
 
@@ -232,6 +255,11 @@ class StickySocialGoal:
         )
         if stale:
             self._goal = resolve_social_goal(social, given_goal, pose)
+            if self._goal is not None and self.tolerance is not None and not self._goal.is_waypoint:
+                from dataclasses import replace
+
+                xy, yaw = self.tolerance
+                self._goal = replace(self._goal, position_tolerance=xy, yaw_tolerance=yaw)
             self._positions = positions
         return self._goal
 
@@ -277,7 +305,9 @@ def build_navigator(
         local,
         costmap,
         goal,
-        social_goal_fn=StickySocialGoal() if preset.social_goal else None,
+        social_goal_fn=StickySocialGoal(tolerance=preset.spot_tolerance)
+        if preset.social_goal
+        else None,
         predict_people=preset.predict_people,
         record=record,
         costmap_layer=layer,

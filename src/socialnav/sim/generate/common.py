@@ -62,7 +62,8 @@ def generate(family: str, seed: int) -> Scenario:
         except Infeasible as exc:
             last = str(exc)
             continue
-        return scn.model_copy(update={"seed": int(seed)})
+        # One tolerance for the planner's goal, the baselines' task and the success check.
+        return scn.model_copy(update={"seed": int(seed), "goal_tolerance": POSITION_TOLERANCE})
     raise ConfigurationError(
         f"{family} seed {seed}: no feasible scene in {MAX_ATTEMPTS} draws: {last}"
     )
@@ -121,8 +122,8 @@ class FreeSpace:
     """The robot centre's free cells: static map inflated by the inscribed radius, standing
     people inflated by person radius + inscribed radius, ``blocked`` polygons (activity spaces,
     queue bands: the footprint must stay out, so inflated by the inscribed radius) and discs
-    (o-spaces: the success condition is on the robot's centre, so not inflated). ``distance_to_obstacle`` is
-    the exact clearance (m) of a point to walls and obstacles."""
+    (o-spaces: the success condition is on the robot's centre, so not inflated).
+    ``distance_to_obstacle`` is the clearance (m) of a point to walls and obstacles."""
 
     def __init__(
         self,
@@ -183,7 +184,7 @@ class FreeSpace:
         c = self.cell(p)
         if c is None:
             return set()
-        k = max(int(round(snap / self.geometry.resolution)), 0)
+        k = max(round(snap / self.geometry.resolution), 0)
         r0, c0 = max(c[0] - k, 0), max(c[1] - k, 0)
         window = labels[r0 : c[0] + k + 1, c0 : c[1] + k + 1]
         return {int(v) for v in np.unique(window) if v > 0}

@@ -101,7 +101,7 @@ def orca_tracks(pairs: list[tuple[np.ndarray, np.ndarray]], seed: int) -> list[n
         )
         world.add_agent(agent)
         agents.append(agent)
-    steps = int(round(TIME_LIMIT / DT))
+    steps = round(TIME_LIMIT / DT)
     tracks = np.zeros((steps + 1, len(agents), 2))
     tracks[0] = [a.position for a in agents]
     for t in range(1, steps + 1):
