@@ -86,6 +86,11 @@ class LocalPlannerParams:
     xy_goal_tolerance: float = 0.1
     yaw_goal_tolerance: float = 0.1
     latch_xy_goal_tolerance: bool = True
+    # A rollout that enters the xy goal tolerance stops there (the latched goal check stops the
+    # robot there), so critics score where the robot will stop. Off = base_local_planner: the
+    # end point after the full sim_time is scored, an approach at speed "overshoots" and the
+    # speed decays like distance / sim_time near the goal (the slow final approach).
+    stop_at_goal: bool = False
     trans_stopped_vel: float = 0.1
     theta_stopped_vel: float = 0.1
     # scoring (meter scoring)
@@ -123,6 +128,21 @@ class LocalPlannerParams:
             value = getattr(self, name)
             if not (np.isfinite(value) and value >= 0):
                 raise ConfigurationError(f"{name} must be finite and >= 0, got {value}")
+
+
+def stop_at_goal(trajs: Trajectories, goal: FloatArray, tolerance: float) -> Trajectories:
+    """Each rollout ``(N, T, 3)`` held at its first pose within ``tolerance`` (m) of ``goal``
+    (xy) from then on; rollouts that never get there are unchanged."""
+    d = np.hypot(trajs.xy[..., 0] - goal[0], trajs.xy[..., 1] - goal[1])  # (N, T)
+    inside = d <= tolerance
+    arrives = inside.any(axis=1)
+    if not arrives.any():
+        return trajs
+    first = np.argmax(inside, axis=1)  # (N,)
+    steps = np.arange(trajs.t.shape[0])
+    index = np.where(arrives[:, None], np.minimum(steps[None], first[:, None]), steps[None])
+    poses = np.take_along_axis(trajs.poses, index[..., None], axis=1)
+    return Trajectories(trajs.twists, poses, trajs.t)
 
 
 def traditional_objectives(params: LocalPlannerParams | None = None) -> tuple[Objective, ...]:
@@ -352,6 +372,8 @@ class LocalPlanner:
         trajs = rollout(
             ctx.pose, ctx.velocity, twists, self.robot, p, dtype=np.dtype(p.rollout_dtype).type
         )
+        if p.stop_at_goal:
+            trajs = stop_at_goal(trajs, ctx.goal, self._tolerances(ctx)[0])
         t2 = time.perf_counter()
         t["rollout"] = t2 - t1
         cycle.trajs = trajs

@@ -149,7 +149,7 @@ def partner_objectives(
 #: (the social goals' default 0.25 m / 0.25 rad ends 0.24–0.25 m from the spot)
 RECOMMENDED_SPOT_TOLERANCE = (0.07, 0.15)
 #: ``paccet``'s local-planner parameters: the given goal's tolerance inside 0.10 m too
-RECOMMENDED_PARAMS = LocalPlannerParams(xy_goal_tolerance=0.07)
+RECOMMENDED_PARAMS = LocalPlannerParams(xy_goal_tolerance=0.07, stop_at_goal=True)
 
 
 def paper_selection(weights: list[float]) -> SelectionStrategy:
