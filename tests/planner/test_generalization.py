@@ -80,8 +80,9 @@ def test_stop_at_goal_holds_each_rollout_at_its_first_pose_inside_the_tolerance(
     poses[..., 0] = xs
     trajs = Trajectories(np.zeros((2, 3)), poses, t)
     out = stop_at_goal(trajs, np.array([1.0, 0.0, 0.0]), 0.25)
-    assert out.poses[0, -1, 0] == pytest.approx(0.8)  # first sample within 0.25 m of x = 1
-    assert out.poses[0, 4, 0] == pytest.approx(0.8) and out.poses[0, 3, 0] == pytest.approx(0.6)
+    # the first sample within 0.25 m of x = 1 is x = 0.8 (t = 0.4): arrived, on the goal since
+    assert out.poses[0, 4:, 0] == pytest.approx(1.0)
+    assert out.poses[0, 3, 0] == pytest.approx(0.6)
     assert np.all(np.diff(out.poses[0, :, 0]) >= 0.0)
     np.testing.assert_array_equal(out.poses[1], trajs.poses[1])
     same = stop_at_goal(trajs, np.array([10.0, 0.0, 0.0]), 0.1)
@@ -96,3 +97,17 @@ def test_paccet_preset_uses_both_options():
     assert preset.spot_tolerance is not None and preset.spot_tolerance[0] < 0.10
     assert not PRESETS.get("traditional").params.stop_at_goal
     assert PR2.name == "pr2"
+
+
+def test_arrival_time_prefers_the_rollout_that_arrives_first():
+    from socialnav.planner.critics.arrival import ArrivalTimeCritic
+
+    t = np.linspace(0.0, 1.0, 11)
+    poses = np.zeros((3, 11, 3))
+    poses[0, :, 0] = t * 2.0  # arrives at t = 0.4 (x = 0.8, within 0.25 m of x = 1)
+    poses[1, :, 0] = t * 1.0  # arrives at t = 0.8
+    poses[2, :, 0] = t * 0.2  # never arrives
+    trajs = stop_at_goal(Trajectories(np.zeros((3, 3)), poses, t), np.array([1.0, 0.0, 0.0]), 0.25)
+    ctx = dataclasses.replace(make_ctx(), goal=np.array([1.0, 0.0, 0.0]))
+    cost = ArrivalTimeCritic().score(trajs, ctx).cost
+    np.testing.assert_allclose(cost, [0.4, 0.8, 1.1])
