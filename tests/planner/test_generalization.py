@@ -7,6 +7,7 @@ import dataclasses
 
 import numpy as np
 import pytest
+from test_social_critics import make_ctx, straight
 
 from socialnav.core.robot import PR2
 from socialnav.core.scene import Group, Person, Queue, SocialContext
@@ -15,14 +16,12 @@ from socialnav.planner.critics.interpersonal import InterpersonalCritic, partner
 from socialnav.planner.local_planner import stop_at_goal
 from socialnav.social.goals import SocialGoal, o_formation_join_pose
 
-from test_social_critics import make_ctx, straight
-
 MEMBERS = [(0.0, 0.9), (-0.9, 0.0), (0.0, -0.9)]  # the paper's group_join, centred at 0
 WALKER = (3.0, 3.0)
 
 
 def group_scene():
-    people = tuple(Person(i + 1, p) for i, p in enumerate(MEMBERS)) + (Person(9, WALKER),)
+    people = (*tuple(Person(i + 1, p) for i, p in enumerate(MEMBERS)), Person(9, WALKER))
     social = SocialContext(people, groups=(Group((1, 2, 3), "join"),))
     goal = o_formation_join_pose(np.array(MEMBERS))
     ctx = dataclasses.replace(make_ctx(social=social, social_goal=goal), goal=goal.pose)

@@ -1,8 +1,8 @@
 """Critics: one small unit per cost term, each behind the :class:`Critic` interface.
 
-Importing a critic module registers it in :data:`CRITICS`: navigation critics (arrival_time, goal_distance,
-heading, occupancy, path_distance) and social critics (activity_space, group, interpersonal,
-social_goal).
+Importing a critic module registers it in :data:`CRITICS`: navigation critics (arrival_time,
+goal_distance, heading, occupancy, path_distance) and social critics (activity_space, group,
+interpersonal, social_goal).
 """
 
 from socialnav.planner.critics.activity_space import ActivitySpaceCritic
