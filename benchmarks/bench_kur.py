@@ -53,7 +53,7 @@ from pymoo.optimize import minimize
 from pymoo.problems import get_problem
 
 from harness import Case, format_seconds, run_table
-from socialnav.moo.optimizer import PaCcETAlgorithm, paccet_optimize
+from socialnav.moo.optimizer import PaccetAlgorithm, paccet_optimize
 
 POP = 100
 ALGORITHMS = ("NSGA-II", "SPEA2", "PaCcET (pymoo)", "PaCcET (plain)")
@@ -171,7 +171,7 @@ def make_algorithm(name: str):
         return NSGA2(pop_size=POP)
     if name == "SPEA2":
         return SPEA2(pop_size=POP)
-    return PaCcETAlgorithm(pop_size=POP)
+    return PaccetAlgorithm(pop_size=POP)
 
 
 def run_once(spec: Spec, algo: str, seed: int) -> Trace:

@@ -6,7 +6,7 @@ Rows:
   context, exact footprint collision checks, EpisodeRecord) with a stand-still controller, so
   every episode lasts the full 60 s; per-step cost = median / 601;
 - ``reactive humans``: the same with navground ``HL`` people;
-- ``ORCA robot``: the robot driven by navground's ORCA (ends when its task is done).
+- ``ORCA robot``: the robot driven by navground's ORCA (ends when its target is reached).
 
 Run: ``.venv/bin/python benchmarks/bench_sim.py``.
 """
@@ -17,7 +17,7 @@ import numpy as np
 
 from harness import Case, run_table
 from socialnav.core.robot import PR2
-from socialnav.sim.controller import ControlOutput
+from socialnav.planner.local_planner import PlannerResult, PlannerStatus
 from socialnav.sim.engine import ControllerBehavior, build_world
 from socialnav.sim.runner import run_episode
 from socialnav.sim.scenario import load_scenario
@@ -29,8 +29,8 @@ class StandStill:
     def reset(self, scenario, robot) -> None:
         pass
 
-    def step(self, time, pose, velocity, social) -> ControlOutput:
-        return ControlOutput(np.zeros(3), "OK")
+    def step(self, time, pose, velocity, social) -> PlannerResult:
+        return PlannerResult(np.zeros(3), PlannerStatus.OK)
 
 
 def bare(name: str) -> None:
@@ -71,7 +71,7 @@ def main() -> None:
         Case(
             "hallway_stationary",
             "ORCA robot",
-            lambda: run_episode(scn, "ORCA"),
+            lambda: run_episode(scn, "orca"),
             repeats=3,
             extra={"people": "1", "walls": "2"},
         )

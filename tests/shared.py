@@ -6,17 +6,11 @@ from __future__ import annotations
 import html
 import re
 
-# Every planner the README and the issue promise, by the name users type.
-ALL_PLANNERS = [
-    "traditional",
-    "proxemic_layer",
-    "weighted_social",
-    "orca",
-    "hl",
-    "social_force",
-    "paccet_paper",
-    "paccet",
-]
+from socialnav.experiments.planners import compared_planners
+
+# Every planner a comparison runs by default, in display order: a view of the controller
+# registry (tests/experiments/test_baselines_e2e.py checks it against the README's list).
+ALL_PLANNERS = compared_planners()
 
 # The paper's Table 1 metrics, named as in shared/reference/metrics.md.
 TABLE1_KEYS = (

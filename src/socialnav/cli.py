@@ -79,7 +79,7 @@ def compare(
     from rich.progress import BarColumn, MofNCompleteColumn, Progress, TimeElapsedColumn
 
     from socialnav.core.errors import ConfigurationError
-    from socialnav.experiments.planners import PLANNERS
+    from socialnav.experiments.planners import CONTROLLERS, compared_planners
     from socialnav.experiments.run import check_robot
     from socialnav.experiments.suite import run_suite, suite_specs
     from socialnav.report.build import build_report
@@ -88,9 +88,9 @@ def compare(
     if suite not in ("paper", "reactive", "randomized", "generated"):
         _fail(f"unknown suite {suite!r}; use paper, reactive, randomized or generated")
     try:
-        planner_names = _split(planners) or PLANNERS.names()
+        planner_names = _split(planners) or compared_planners()
         for name in planner_names:
-            PLANNERS.get(name)
+            CONTROLLERS.get(name)
         for name in _split(robots):
             check_robot(name)
         if suite == "generated":
@@ -187,13 +187,15 @@ def schema(
 
 @app.command("list")
 def list_components() -> None:
-    """List built-in scenarios and planners."""
-    from socialnav.experiments.planners import PLANNERS
+    """List built-in scenarios and planners (planners in display order)."""
+    from socialnav.experiments.planners import CONTROLLERS, planner_names
     from socialnav.sim.scenario import builtin_scenarios
 
     typer.echo("scenarios: " + ", ".join(builtin_scenarios()))
-    for name in PLANNERS.names():
-        typer.echo(f"planner {name}: {PLANNERS.get(name).description}")
+    for name in planner_names():
+        entry = CONTROLLERS.get(name)
+        default = "" if entry.compared else " (not compared by default)"
+        typer.echo(f"planner {name}: {entry.description}{default}")
 
 
 if __name__ == "__main__":

@@ -7,8 +7,8 @@ from _moo_helpers import EXAMPLE1, EXAMPLE2
 from socialnav.moo import (
     EqualWeight,
     L1Target,
-    PaCcET,
     PaccetOptions,
+    PaccetTransform,
     Weighted,
     normalize,
     paccet_select,
@@ -317,7 +317,7 @@ def test_transform_bad_input_raises(F, A):
 
 # ---------------------------------------------------------------- stateful object
 def test_stateful_paccet_matches_stateless_and_persists():
-    p = PaCcET(VECTORS)
+    p = PaccetTransform(VECTORS)
     with pytest.raises(ValueError, match="tell"):
         p.transform(EXAMPLE1)
     p.tell(EXAMPLE1[:2])
@@ -341,12 +341,12 @@ def test_stateful_paccet_matches_stateless_and_persists():
 
 
 def test_stateful_order_ranks_weakly_dominated_last():
-    p = PaCcET(PaccetOptions(delta_mode="absolute"))
+    p = PaccetTransform(PaccetOptions(delta_mode="absolute"))
     p.tell(EXAMPLE2)
     order = p.order(EXAMPLE2, Weighted([0.4, 0.5]))
     assert order[-1] == 4 and order[0] == 3
     np.testing.assert_array_equal(p.dominated_by_archive(EXAMPLE2), [0, 0, 0, 0, 1])
-    p_ref = PaCcET(VECTORS)
+    p_ref = PaccetTransform(VECTORS)
     p_ref.tell(EXAMPLE2)
     assert p_ref.order(EXAMPLE2, Weighted([0.4, 0.5]))[0] == 4
 
@@ -354,7 +354,7 @@ def test_stateful_order_ranks_weakly_dominated_last():
 def test_stateful_thinning_uses_seed():
     t = np.arange(40.0)
     F = np.column_stack([t, 39.0 - t])
-    a, b = PaCcET(threshold=10, seed=1), PaCcET(threshold=10, seed=1)
+    a, b = PaccetTransform(threshold=10, seed=1), PaccetTransform(threshold=10, seed=1)
     a.tell(F)
     b.tell(F)
     np.testing.assert_array_equal(a.archive.points, b.archive.points)

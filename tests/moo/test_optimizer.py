@@ -58,10 +58,10 @@ def test_same_seed_identical_different_seed_differs() -> None:
 
 
 def test_runs_through_pymoo_minimize_and_matches_plain_loop() -> None:
-    from socialnav.moo.optimizer import PaCcETAlgorithm
+    from socialnav.moo.optimizer import PaccetAlgorithm
 
     p = get_problem("kursawe")
-    res = minimize(p, PaCcETAlgorithm(pop_size=100), ("n_eval", 100 + 20 * 50), seed=4)
+    res = minimize(p, PaccetAlgorithm(pop_size=100), ("n_eval", 100 + 20 * 50), seed=4)
     assert res.algorithm.evaluator.n_eval == 1100
     plain = paccet_optimize(p, 20, seed=4)
     np.testing.assert_array_equal(res.X, plain.X)
@@ -134,10 +134,10 @@ def test_bad_options_raise(kwargs: dict) -> None:
     with pytest.raises(ValueError):
         paccet_evolve(schaffer, [-5.0], [5.0], 2, seed=0, **kwargs)
     if "pop_size" not in kwargs:
-        from socialnav.moo.optimizer import PaCcETAlgorithm
+        from socialnav.moo.optimizer import PaccetAlgorithm
 
         with pytest.raises(ValueError):
-            minimize(get_problem("kursawe"), PaCcETAlgorithm(**kwargs), ("n_gen", 2), seed=0)
+            minimize(get_problem("kursawe"), PaccetAlgorithm(**kwargs), ("n_gen", 2), seed=0)
 
 
 def test_bad_problems_and_data_raise() -> None:
@@ -168,7 +168,7 @@ def test_module_imports_without_pymoo() -> None:
         "import socialnav.moo.optimizer as o\n"
         "import numpy as np\n"
         "r = o.paccet_evolve(lambda X: np.c_[X[:, 0]**2, (X[:, 0]-2)**2], [-5.], [5.], 3, 10)\n"
-        "try:\n    o.PaCcETAlgorithm\nexcept ImportError:\n    print('ok', len(r.F) > 0)\n"
+        "try:\n    o.PaccetAlgorithm\nexcept ImportError:\n    print('ok', len(r.F) > 0)\n"
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "ok True"

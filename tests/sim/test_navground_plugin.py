@@ -5,7 +5,8 @@ from __future__ import annotations
 import numpy as np
 from navground import core, sim
 
-from socialnav.sim.controller import CONTROLLERS, GOAL_REACHED, ControlOutput
+from socialnav.planner.local_planner import PlannerResult, PlannerStatus
+from socialnav.sim.controller import CONTROLLERS, GOAL_REACHED, register_controller
 
 
 class StraightToGoal:
@@ -15,18 +16,20 @@ class StraightToGoal:
         self.goal = np.asarray(scenario.goal[:2], dtype=float)
         self.walls = scenario.walls_array()
 
-    def step(self, time, pose, velocity, social) -> ControlOutput:
+    def step(self, time, pose, velocity, social) -> PlannerResult:
         delta = self.goal - pose[:2]
         dist = float(np.hypot(*delta))
         if dist < 0.15:
-            return ControlOutput(np.zeros(3), GOAL_REACHED)
+            return PlannerResult(np.zeros(3), GOAL_REACHED)
         c, s = np.cos(pose[2]), np.sin(pose[2])
         body = np.array([c * delta[0] + s * delta[1], -s * delta[0] + c * delta[1]]) / dist
-        return ControlOutput(np.array([*(0.4 * body), 0.0]), "OK", len(social.people))
+        return PlannerResult(np.array([*(0.4 * body), 0.0]), PlannerStatus.OK)
 
 
 if "test_straight" not in CONTROLLERS:
-    CONTROLLERS.add("test_straight", StraightToGoal)
+    register_controller(
+        "test_straight", StraightToGoal, "test: straight at the goal", compared=False
+    )
 
 EXPERIMENT = """
 steps: 60

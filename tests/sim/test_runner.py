@@ -6,8 +6,9 @@ import numpy as np
 import pytest
 
 from socialnav.core.robot import PIONEER, PR2
+from socialnav.planner.local_planner import PlannerResult, PlannerStatus
 from socialnav.sim.baselines import GoToGoalController
-from socialnav.sim.controller import GOAL_REACHED, ControlOutput
+from socialnav.sim.controller import GOAL_REACHED
 from socialnav.sim.engine import ControllerBehavior, build_world
 from socialnav.sim.recorder import StaticGeometry, person_collisions
 from socialnav.sim.runner import run_episode
@@ -24,9 +25,9 @@ class ConstantTwist:
     def reset(self, scenario, robot) -> None:
         self.seen.clear()
 
-    def step(self, time, pose, velocity, social) -> ControlOutput:
+    def step(self, time, pose, velocity, social) -> PlannerResult:
         self.seen.append((time, pose.copy(), velocity.copy(), len(social.people)))
-        return ControlOutput(self.cmd.copy(), "OK", {"t": time})
+        return PlannerResult(self.cmd.copy(), PlannerStatus.OK)
 
 
 def corridor(people: list[dict], start=(1.0, 0.0, 0.0), goal=(19.0, 0.0, 0.0), **kw) -> Scenario:
@@ -184,9 +185,9 @@ def test_controller_sees_ground_truth_social_context() -> None:
 
 
 def test_navground_orca_baseline_runs() -> None:
-    res = run_episode("hallway_stationary", "ORCA", "pr2", record_diagnostics=True)
+    res = run_episode("hallway_stationary", "orca", "pr2", record_diagnostics=True)
     rec = res.record
-    assert rec.meta["planner"] == "ORCA"
+    assert rec.meta["planner"] == "orca"
     assert rec.meta["termination"] == "goal_reached"
     assert np.linalg.norm(rec.robot_xy[-1] - rec.target[:2]) <= rec.goal_tolerance
     assert not rec.collision_person.any()  # ORCA sees the person as a neighbour
@@ -194,7 +195,7 @@ def test_navground_orca_baseline_runs() -> None:
 
 
 def test_social_goal_is_the_target() -> None:
-    rec = run_episode("queue_line", "ORCA", "pioneer").record
+    rec = run_episode("queue_line", "orca", "pioneer").record
     assert rec.meta["social_goal"] == "queue_tail"
     assert not np.allclose(rec.target[:2], rec.goal[:2])
     rec = run_episode("gallery_activity", ConstantTwist((0, 0, 0)), "pr2").record

@@ -4,16 +4,14 @@ from __future__ import annotations
 
 import importlib.util
 from dataclasses import replace
-from types import SimpleNamespace
 
 import numpy as np
 import pytest
 import viz_synthetic as S
 from PIL import Image
 
-from socialnav.core.trajectories import Trajectories
-from socialnav.moo.selection import Selection
-from socialnav.viz.animation import FanFrame, animate_episode, frame_indices, to_fan_frame
+from socialnav.planner.record import EvaluationRecord
+from socialnav.viz.animation import FanFrame, animate_episode, fan_frame, frame_indices
 
 
 def _short_hallway(n: int = 24):
@@ -94,26 +92,26 @@ def test_fan_frame_shapes_and_relative_fitness():
         FanFrame(np.full((2, 5, 2), np.nan), [1.0, 2.0], [True, True])
 
 
-def test_to_fan_frame_from_dict_and_planner_like_objects():
-    poses = np.random.default_rng(0).normal(size=(5, 4, 3))
-    d = to_fan_frame(
-        {"end_poses": poses[:, -1], "fitness": [3, 1, np.inf, 2, 4], "chosen_index": 1}
+def test_fan_frame_from_an_evaluation_record():
+    end = np.random.default_rng(0).normal(size=(5, 3))
+    rec = EvaluationRecord(
+        time=0.0,
+        pose=np.zeros(3),
+        velocity=np.zeros(3),
+        goal=np.ones(3),
+        status="OK",
+        twists=np.zeros((5, 3)),
+        end_poses=end,
+        legal=np.array([1, 1, 0, 1, 0], bool),
+        fitness=np.array([2.0, 2.0, np.inf, 1.0, np.inf]),
+        chosen=3,
     )
-    assert d.poses.shape == (5, 1, 2) and d.chosen == 1
-    np.testing.assert_array_equal(d.legal, [True, True, False, True, True])
-    trajs = Trajectories(np.zeros((5, 3)), poses, np.linspace(0, 1, 4))
-    sel = Selection(3, np.array([2.0, 2.0, np.inf, 1.0, 5.0]))
-    obj = SimpleNamespace(
-        trajectories=trajs,
-        selection=sel,
-        evaluation=SimpleNamespace(legal=np.array([1, 1, 0, 1, 0], bool)),
-    )
-    o = to_fan_frame(obj)
-    np.testing.assert_allclose(o.poses, poses[..., :2])
-    assert o.chosen == 3 and o.legal.tolist() == [True, True, False, True, False]
-    assert to_fan_frame(None) is None
-    with pytest.raises(ValueError, match="cannot build a FanFrame"):
-        to_fan_frame({"fitness": [1.0]})
+    fan = fan_frame(rec)
+    assert fan is not None and fan.poses.shape == (5, 1, 2) and fan.chosen == 3
+    np.testing.assert_allclose(fan.poses[:, 0], end[:, :2])
+    assert fan.legal.tolist() == [True, True, False, True, False]
+    assert fan_frame(None) is None
+    assert fan_frame(replace(rec, fitness=None, chosen=None)) is None  # nothing was selected
 
 
 def test_bad_input(tmp_path):
@@ -135,7 +133,7 @@ def test_bad_input(tmp_path):
         animate_episode(rec, tmp_path / "e.avi")
     with pytest.raises(ValueError, match="fps"):
         animate_episode(rec, tmp_path / "e.gif", fps=0)
-    with pytest.raises(ValueError, match="diagnostics"):
+    with pytest.raises(ValueError, match="fans for a record"):
         animate_episode(rec, [None] * 7, tmp_path / "e.gif")
     with pytest.raises(ValueError, match="output path"):
         animate_episode(rec, [None] * 6)

@@ -4,16 +4,21 @@ from __future__ import annotations
 
 import difflib
 import json
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
 import numpy as np
+from matplotlib.figure import Figure
 
+from socialnav.core.episode import EpisodeRecord
 from socialnav.core.errors import ConfigurationError
 from socialnav.core.robot import ROBOT_MODELS
-from socialnav.experiments.planners import PLANNERS, run_planner_episode
+from socialnav.experiments.planners import CONTROLLERS, run_planner_episode
 from socialnav.experiments.storage import save_episode
 from socialnav.experiments.suite import EpisodeSpec
+from socialnav.planner.record import EvaluationRecord
+from socialnav.viz.animation import FanFrame
 
 
 def check_robot(robot: str) -> None:
@@ -25,8 +30,10 @@ def check_robot(robot: str) -> None:
         raise ConfigurationError(f"unknown robot {robot!r}.{hint} Known: {known}.")
 
 
-def diagnostics_table(diagnostics: list[Any]) -> dict[str, list[Any]]:
-    """Per-step planner diagnostics as columns: status, chosen twist, candidates, rejections."""
+def diagnostics_table(diagnostics: Sequence[EvaluationRecord | None]) -> dict[str, list[Any]]:
+    """Per-step planner diagnostics as columns: status, chosen twist, candidates, rejections.
+
+    One row per sample with an evaluation record (``None`` entries are skipped)."""
     columns: dict[str, list[Any]] = {
         "step": [],
         "status": [],
@@ -40,34 +47,24 @@ def diagnostics_table(diagnostics: list[Any]) -> dict[str, list[Any]]:
         "objectives": [],
         "plan_ms": [],
     }
-    for step, diag in enumerate(diagnostics):
-        record = getattr(diag, "record", diag)
+    for step, record in enumerate(diagnostics):
         if record is None:
             continue
-        twists = np.asarray(getattr(record, "twists", np.zeros((0, 3))))
-        legal = np.asarray(getattr(record, "legal", np.zeros(0, dtype=bool)))
-        chosen = getattr(record, "chosen", None)
+        chosen = record.chosen
         columns["step"].append(step)
-        columns["status"].append(str(getattr(diag, "status", "")))
-        columns["n_candidates"].append(len(twists))
-        columns["n_legal"].append(int(legal.sum()))
+        columns["status"].append(record.status)
+        columns["n_candidates"].append(record.num_samples)
+        columns["n_legal"].append(record.num_legal)
         columns["chosen_index"].append(-1 if chosen is None else int(chosen))
-        cmd = twists[chosen] if chosen is not None and len(twists) else np.full(3, np.nan)
+        cmd = record.twists[chosen] if chosen is not None else np.full(3, np.nan)
         columns["chosen_vx"].append(float(cmd[0]))
         columns["chosen_vy"].append(float(cmd[1]))
         columns["chosen_wz"].append(float(cmd[2]))
-        rejected = getattr(record, "rejected", {}) or {}
-        columns["rejections"].append(
-            json.dumps(
-                {
-                    f"{k[0]}:{k[1]}" if isinstance(k, tuple) else str(k): int(v)
-                    for k, v in rejected.items()
-                }
-            )
-        )
-        columns["objectives"].append(",".join(getattr(record, "objective_names", ()) or ()))
-        timing = getattr(record, "timing", {}) or {}
-        columns["plan_ms"].append(float(sum(timing.values()) * 1e3) if timing else np.nan)
+        rejected = {f"{c}:{r}": int(k) for (c, r), k in record.rejected.items()}
+        columns["rejections"].append(json.dumps(rejected))
+        columns["objectives"].append(",".join(record.objective_names))
+        timing = record.timing
+        columns["plan_ms"].append(float(timing.get("total", np.nan)) * 1e3)
     return columns
 
 
@@ -90,7 +87,7 @@ def run_single(
     from socialnav.metrics.success import evaluate_success
     from socialnav.viz.topdown import plot_episode, save_figure
 
-    PLANNERS.get(planner)
+    CONTROLLERS.get(planner)
     check_robot(robot)
     if fmt not in ("parquet", "csv"):  # checked before the episode runs, not after
         raise ConfigurationError(f"unknown trajectory format {fmt!r}; use parquet or csv")
@@ -132,13 +129,14 @@ def run_single(
     }
 
 
-def decision_figure(diagnostics: list[Any], record: Any) -> Any:
+def decision_figure(
+    diagnostics: Sequence[EvaluationRecord | None], record: EpisodeRecord
+) -> Figure | None:
     """Why a trajectory won, at the multi-objective cycle closest to a person (None if none)."""
     from socialnav.viz.pareto import plot_decision
 
     best, best_distance = None, np.inf
-    for step, diag in enumerate(diagnostics):
-        rec = getattr(diag, "record", None)
+    for step, rec in enumerate(diagnostics):
         if rec is None or rec.chosen is None or rec.F.ndim != 2 or rec.F.shape[1] < 2:
             continue
         if record.people_positions.shape[1] == 0:
@@ -164,23 +162,8 @@ def decision_figure(diagnostics: list[Any], record: Any) -> Any:
     )
 
 
-def fan_frames(diagnostics: list[Any]) -> list[Any]:
-    """Per-step candidate fans for the animation, from the planner's evaluation records."""
-    from socialnav.viz.animation import FanFrame
+def fan_frames(diagnostics: Sequence[EvaluationRecord | None]) -> list[FanFrame | None]:
+    """Per-sample candidate fans for the animation, from the planner's evaluation records."""
+    from socialnav.viz.animation import fan_frame
 
-    frames: list[Any] = []
-    for diag in diagnostics:
-        record = getattr(diag, "record", diag)
-        poses = getattr(record, "poses", None)
-        if record is None or poses is None:
-            frames.append(None)
-            continue
-        frames.append(
-            FanFrame(
-                poses=np.asarray(poses)[..., :2],
-                fitness=np.asarray(record.fitness),
-                legal=np.asarray(record.legal),
-                chosen=record.chosen,
-            )
-        )
-    return frames
+    return [fan_frame(record) for record in diagnostics]

@@ -131,7 +131,7 @@ class SocialNavBehavior(ControllerBehavior, name="SocialNav"):
             return self.cmd_twist_towards_stopping(time_step)
         if self.controller is None or goal[:2] != (self._goal or (None, None, None))[:2]:
             model = ROBOT_MODELS[self._robot]
-            controller = CONTROLLERS.get(self._planner)()
+            controller = CONTROLLERS.get(self._planner).factory()
             controller.reset(self._scenario(goal), model)
             self.controller, self.robot_model, self._goal = controller, model, goal
         return ControllerBehavior.compute_cmd_internal(self, time_step)

@@ -13,7 +13,7 @@ Every family:
   planner's own (tighter) goal tolerance was.
 - ``no_collision``: no sample flagged in ``collision_person`` or ``collision_obstacle``.
 
-Per family (``record.family``):
+Per family (``record.family``; ``custom`` has only the common conditions):
 - ``hallway``: ``no_personal_space_intrusion`` — the centre-to-centre distance to every person
   stays >= 1.2 m. In scenario ``hallway_headon`` it is reported but *not required* (the person
   never yields; the robot can only yield as far as the walls allow).
@@ -71,7 +71,16 @@ from socialnav.metrics.scenario import (
 from socialnav.metrics.series import closest_distance, reached_within_limit
 from socialnav.social.proxemics import PERSONAL
 
-FAMILIES = ("hallway", "gallery_present", "gallery_activity", "queue", "group", "mixed", "crowdnav")
+FAMILIES = (
+    "hallway",
+    "gallery_present",
+    "gallery_activity",
+    "queue",
+    "group",
+    "mixed",
+    "crowdnav",
+    "custom",
+)
 SPOT_TOLERANCE = 0.3  # m, scenarios.md
 HEADING_TOLERANCE = 0.5  # rad, this library's choice (scenarios.md: "facing")
 PERSONAL_SPACE_OPTIONAL = frozenset({"hallway_headon"})

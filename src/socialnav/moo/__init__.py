@@ -1,12 +1,26 @@
-"""Multi-objective core: non-dominated filtering, the Pareto archive, PaCcET, selection."""
+"""Multi-objective core: non-dominated filtering, the Pareto archive, PaCcET, selection.
+
+Three PaCcET objects, three names:
+
+- :class:`PaccetSelection`: the stateless selection strategy the local planner uses (a fresh
+  archive from each cycle's candidates); it returns a :class:`Selection`, as every
+  :class:`SelectionStrategy` does;
+- :class:`PaccetTransform`: the stateful transformation with a persistent
+  :class:`ParetoArchive` (``tell`` / ``transform`` / ``order``); :func:`paccet_select` is its
+  one-shot form and returns a :class:`PaccetRanking`;
+- :class:`~socialnav.moo.optimizer.PaccetEvolution` (ask/tell),
+  :func:`~socialnav.moo.optimizer.paccet_evolve` and the pymoo ``PaccetAlgorithm``: the
+  evolutionary optimizer, whose runs return a
+  :class:`~socialnav.moo.optimizer.PaccetEvolutionResult`.
+"""
 
 from socialnav.moo.archive import ParetoArchive
 from socialnav.moo.indicators import hypervolume
 from socialnav.moo.nondominated import dominates, nondominated_mask, validate_objectives
 from socialnav.moo.paccet import (
-    PaCcET,
     PaccetOptions,
-    PaccetResult,
+    PaccetRanking,
+    PaccetTransform,
     normalize,
     paccet_select,
     paccet_transform,
@@ -17,10 +31,10 @@ from socialnav.moo.selection import PaccetSelection, Selection, SelectionStrateg
 __all__ = [
     "EqualWeight",
     "L1Target",
-    "PaCcET",
     "PaccetOptions",
-    "PaccetResult",
+    "PaccetRanking",
     "PaccetSelection",
+    "PaccetTransform",
     "ParetoArchive",
     "Scalarization",
     "Selection",

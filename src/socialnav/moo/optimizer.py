@@ -35,7 +35,7 @@ Deviations from the reference driver:
 - All randomness (initial sampling, parent choice, mutation, archive thinning) comes from one
   ``numpy.random.Generator`` built from ``seed``.
 
-pymoo is optional: :class:`PaCcETAlgorithm` (a ``pymoo.core.algorithm.Algorithm``) is built on
+pymoo is optional: :class:`PaccetAlgorithm` (a ``pymoo.core.algorithm.Algorithm``) is built on
 first access, so importing this module never imports pymoo.
 """
 
@@ -53,10 +53,10 @@ from socialnav.core.errors import ConfigurationError, InvalidInputError
 if TYPE_CHECKING:  # pragma: no cover
     from socialnav.moo.paccet import PaccetOptions
 
-# PaCcETAlgorithm is importable too (built lazily by __getattr__, so it is not in __all__).
+# PaccetAlgorithm is importable too (built lazily by __getattr__, so it is not in __all__).
 __all__ = [
     "PaccetEvolution",
-    "PaccetResult",
+    "PaccetEvolutionResult",
     "paccet_evolve",
     "paccet_optimize",
 ]
@@ -66,7 +66,7 @@ FloatArray = NDArray[np.float64]
 
 
 @dataclass(frozen=True)
-class PaccetResult:
+class PaccetEvolutionResult:
     """Outcome of a PaCcET run.
 
     ``X`` (P, d) and ``F`` (P, m): the final archive (non-dominated, at most the thinning
@@ -121,7 +121,7 @@ class PaccetEvolution:
 
     ``ask()`` returns decision vectors to evaluate: (pop_size, d) the first time, then
     (n_eliminate, d) mutated clones. ``tell(X, F)`` takes them back with their objectives (n, m),
-    all minimized. Both the plain loop :func:`paccet_evolve` and :class:`PaCcETAlgorithm` drive it.
+    all minimized. Both the plain loop :func:`paccet_evolve` and :class:`PaccetAlgorithm` drive it.
 
     Parameters (see the module docstring for the loop):
         xl, xu: (d,) finite box bounds.
@@ -278,10 +278,10 @@ class PaccetEvolution:
         """(P, m) objective vectors matching :attr:`archive_X`."""
         return np.asarray(self.archive.points, dtype=float)[self._found_mask()]
 
-    def result(self) -> PaccetResult:
+    def result(self) -> PaccetEvolutionResult:
         if self.X is None or self.F is None:
             raise RuntimeError("no generation has been told yet")
-        return PaccetResult(
+        return PaccetEvolutionResult(
             X=self.archive_X.copy(),
             F=self.archive_F.copy(),
             pop_X=self.X.copy(),
@@ -372,7 +372,7 @@ def paccet_evolve(
     *,
     callback: Callable[[PaccetEvolution], object] | None = None,
     **options: Any,
-) -> PaccetResult:
+) -> PaccetEvolutionResult:
     """Run the PaCcET loop as a plain NumPy loop (no optimization framework).
 
     ``evaluate`` maps X (n, d) to F (n, m), minimized. Spends ``pop_size + n_gen * n_eliminate``
@@ -412,11 +412,11 @@ def paccet_optimize(
     *,
     callback: Callable[[PaccetEvolution], object] | None = None,
     **options: Any,
-) -> PaccetResult:
+) -> PaccetEvolutionResult:
     """Optimize a pymoo ``Problem`` (unconstrained, bounded) with the plain PaCcET loop.
 
     Needs only the problem's ``xl``, ``xu``, ``n_var`` and ``evaluate``; pymoo's optimization
-    framework is not involved. Same seed → same result as ``minimize(problem, PaCcETAlgorithm(...),
+    framework is not involved. Same seed → same result as ``minimize(problem, PaccetAlgorithm(...),
     seed=seed)`` with the same number of generations.
     """
     xl, xu = _problem_bounds(problem)
@@ -435,7 +435,7 @@ def _build_pymoo_algorithm() -> type:
     from pymoo.core.algorithm import Algorithm
     from pymoo.core.population import Population
 
-    class PaCcETAlgorithm(Algorithm):  # type: ignore[misc]
+    class PaccetAlgorithm(Algorithm):  # type: ignore[misc]
         """PaCcET loop as a pymoo ``Algorithm``; ``res.X``/``res.F`` hold the final archive.
 
         Keyword arguments as :class:`PaccetEvolution` (``pop_size``, ``n_eliminate``,
@@ -511,21 +511,21 @@ def _build_pymoo_algorithm() -> type:
             X, F = self.state.archive_X, self.state.archive_F
             self.opt = Population.new(X=X, F=F, CV=np.zeros((len(X), 1)))
 
-    PaCcETAlgorithm.__module__ = __name__
-    return PaCcETAlgorithm
+    PaccetAlgorithm.__module__ = __name__
+    return PaccetAlgorithm
 
 
 def __getattr__(name: str) -> Any:
     # PEP 562: build the pymoo subclass only when someone asks for it (pymoo is an extra).
     global _PYMOO_CLASS
-    if name == "PaCcETAlgorithm":
+    if name == "PaccetAlgorithm":
         if _PYMOO_CLASS is None:
             try:
                 _PYMOO_CLASS = _build_pymoo_algorithm()
             except ImportError as exc:  # pragma: no cover - exercised only without pymoo
                 raise ImportError(
-                    "PaCcETAlgorithm needs pymoo: install the 'socialnav[moo]' extra"
+                    "PaccetAlgorithm needs pymoo: install the 'socialnav[moo]' extra"
                 ) from exc
-            globals()["PaCcETAlgorithm"] = _PYMOO_CLASS
+            globals()["PaccetAlgorithm"] = _PYMOO_CLASS
         return _PYMOO_CLASS
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -47,9 +47,9 @@ from socialnav.moo.nondominated import nondominated_mask, validate_objectives
 from socialnav.moo.scalarize import EqualWeight, Scalarization
 
 __all__ = [
-    "PaCcET",
     "PaccetOptions",
-    "PaccetResult",
+    "PaccetRanking",
+    "PaccetTransform",
     "best_index",
     "cap_sentinels",
     "normalize",
@@ -117,7 +117,7 @@ class PaccetOptions:
 
 
 @dataclass(frozen=True)
-class PaccetResult:
+class PaccetRanking:
     """Outcome of :func:`paccet_select` for ``n`` candidates and ``m`` objectives.
 
     ``transformed`` (n, m) PaCcET coordinates (0 in dropped columns); ``fitness`` (n,) scalarized
@@ -389,7 +389,7 @@ def paccet_select(
     F: np.ndarray,
     scalarization: Scalarization | None = None,
     options: PaccetOptions | None = None,
-) -> PaccetResult:
+) -> PaccetRanking:
     """Stateless PaCcET selection over candidates ``F`` ``(n, m)`` (the planner's use).
 
     A fresh archive is built from the non-dominated rows of (sentinel-capped) ``F``; every
@@ -405,10 +405,10 @@ def paccet_select(
     T, kept = _transform_core(F, F[nd], options, members=nd)
     fitness = _score(scalarization, T)
     best = best_index(fitness, nd if options.rank_weakly_dominated else None)
-    return PaccetResult(T, fitness, best, nd, kept, options.rank_weakly_dominated)
+    return PaccetRanking(T, fitness, best, nd, kept, options.rank_weakly_dominated)
 
 
-class PaCcET:
+class PaccetTransform:
     """Stateful PaCcET with a persistent archive (elitist memory of an optimizer).
 
     ``tell(F)`` offers rows to the archive; ``transform``/``fitness``/``order`` evaluate

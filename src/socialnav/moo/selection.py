@@ -34,9 +34,19 @@ class Selection:
 
 @runtime_checkable
 class SelectionStrategy(Protocol):
+    """Picks one candidate from an objective matrix; stateless between calls.
+
+    ``name``: the strategy's registry-style name. ``select(F, legal)``: ``F (N, m)`` objective
+    values (lower is better; any non-finite row counts as illegal), ``legal (N,)`` bool; returns
+    a :class:`Selection` (``index`` None when nothing is legal). Ties go to the lowest fitness,
+    then the lowest index. Raises ``ValueError`` only on ill-shaped input.
+    """
+
     name: str
 
-    def select(self, F: np.ndarray, legal: np.ndarray) -> Selection: ...
+    def select(self, F: np.ndarray, legal: np.ndarray) -> Selection:
+        """The chosen row of ``F (N, m)`` among ``legal (N,)`` and every row's fitness."""
+        ...
 
 
 def _usable(F: np.ndarray, legal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

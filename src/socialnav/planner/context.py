@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -11,6 +11,9 @@ from socialnav.core.geometry import FloatArray
 from socialnav.core.robot import RobotModel
 from socialnav.core.scene import SocialContext
 from socialnav.world.grid import Costmap
+
+if TYPE_CHECKING:
+    from socialnav.social.goals import SocialGoal
 
 
 @dataclass(frozen=True)
@@ -21,8 +24,8 @@ class PlanningContext:
     - ``goal (3,)``: the pose the planner steers to this cycle (the social goal when one applies).
     - ``global_path (P, 2)``: the pruned global plan in world coordinates, from the robot onwards.
     - ``costmap``: the inflated costmap the rollout is checked against.
-    - ``social``: people, groups, queues, artworks; ``social_goal``: the resolved social goal object
-      (``socialnav.social.goals.SocialGoal``) or ``None``.
+    - ``social``: people, groups, queues, artworks; ``social_goal``: the resolved
+      :class:`~socialnav.social.goals.SocialGoal` or ``None``.
     - ``predict_people``: forecast people along the rollout by constant velocity; when ``False``
       people stay where they are now (the paper's end-point evaluation).
     - ``extras``: per-cycle shared data that critics compute in ``prepare`` (e.g. BFS grids).
@@ -35,7 +38,7 @@ class PlanningContext:
     costmap: Costmap
     robot: RobotModel
     social: SocialContext = field(default_factory=SocialContext)
-    social_goal: Any | None = None
+    social_goal: SocialGoal | None = None
     predict_people: bool = True
     time: float = 0.0
     extras: dict[str, Any] = field(default_factory=dict)

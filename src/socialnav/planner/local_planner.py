@@ -35,6 +35,7 @@ from socialnav.core.errors import ConfigurationError
 from socialnav.core.geometry import FloatArray, wrap_angle
 from socialnav.core.robot import RobotModel
 from socialnav.core.trajectories import Trajectories
+from socialnav.moo.selection import Selection, SelectionStrategy
 from socialnav.planner.context import PlanningContext
 from socialnav.planner.critics.arrival import ArrivalTimeCritic
 from socialnav.planner.critics.base import Critic, CriticUnavailable
@@ -62,12 +63,23 @@ class PlannerStatus(StrEnum):
 
 @dataclass(frozen=True)
 class PlannerResult:
-    """``cmd (3,)`` body twist to apply; ``status``; ``record`` when asked; ``message`` why."""
+    """One control cycle's outcome, from a local planner, a recovering wrapper, the navigator or
+    any simulator controller (the one per-step result type).
+
+    - ``cmd (3,)``: body twist ``(vx, vy, wz)`` to apply, m/s and rad/s, robot frame;
+    - ``status``: :class:`PlannerStatus`;
+    - ``record``: the cycle's :class:`EvaluationRecord` when asked (``record=True``), else None;
+    - ``message``: why, for a status other than ``OK``;
+    - ``target``: the world pose ``(3,)`` the cycle drove toward (the social goal, a waypoint or
+      the given goal), or None when the cycle did not get that far; success is measured against
+      the target the controller recorded last.
+    """
 
     cmd: FloatArray
     status: PlannerStatus
     record: EvaluationRecord | None = None
     message: str = ""
+    target: FloatArray | None = None
 
 
 @dataclass(frozen=True)
@@ -255,7 +267,7 @@ class LocalPlanner:
         self,
         robot: RobotModel,
         objectives: Sequence[Objective],
-        selection: object,
+        selection: SelectionStrategy,
         params: LocalPlannerParams | None = None,
     ) -> None:
         self.robot = robot
@@ -323,10 +335,8 @@ class LocalPlanner:
     def _tolerances(self, ctx: PlanningContext) -> tuple[float, float]:
         sg = ctx.social_goal
         xy, yaw = self.params.xy_goal_tolerance, self.params.yaw_goal_tolerance
-        pose = getattr(sg, "pose", None)
-        if pose is not None and np.allclose(np.asarray(pose, dtype=float), ctx.goal):
-            xy = float(getattr(sg, "position_tolerance", xy))
-            yaw = float(getattr(sg, "yaw_tolerance", yaw))
+        if sg is not None and np.allclose(np.asarray(sg.pose, dtype=float), ctx.goal):
+            xy, yaw = float(sg.position_tolerance), float(sg.yaw_tolerance)
         return xy, yaw
 
     def _at_goal(
@@ -364,7 +374,7 @@ class LocalPlanner:
 
     def _sample_and_select(
         self, ctx: PlanningContext, cycle: _Cycle
-    ) -> tuple[PlannerStatus, FloatArray, str, object]:
+    ) -> tuple[PlannerStatus, FloatArray, str, Selection | None]:
         p, t = self.params, cycle.timing
         t0 = time.perf_counter()
         twists = sample_twists(self.robot, ctx.velocity, p)
@@ -415,10 +425,10 @@ class LocalPlanner:
         record: bool,
         cycle: _Cycle | None,
         start: float,
-        selection: object = None,
+        selection: Selection | None = None,
     ) -> PlannerResult:
         if not record:
-            return PlannerResult(cmd, status, None, message)
+            return PlannerResult(cmd, status, None, message, ctx.goal)
         timing = dict(cycle.timing) if cycle else {}
         timing["total"] = time.perf_counter() - start
         ev = cycle.evaluation if cycle else None
@@ -440,9 +450,9 @@ class LocalPlanner:
             legal=ev.legal if ev else np.zeros(0, dtype=bool),
             raw=ev.raw if ev else {},
             rejected=ev.rejected if ev else {},
-            fitness=getattr(selection, "fitness", None),
-            chosen=getattr(selection, "index", None),
-            selection=dict(getattr(selection, "details", {}) or {}),
+            fitness=None if selection is None else selection.fitness,
+            chosen=None if selection is None else selection.index,
+            selection={} if selection is None else dict(selection.details),
             timing=timing,
         )
-        return PlannerResult(cmd, status, rec, message)
+        return PlannerResult(cmd, status, rec, message, ctx.goal)

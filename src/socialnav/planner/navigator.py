@@ -23,7 +23,6 @@ Decisions:
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -34,23 +33,26 @@ from socialnav.core.scene import SocialContext
 from socialnav.planner.context import PlanningContext
 from socialnav.planner.global_planner import nearest_free, plan_path
 from socialnav.planner.local_planner import PlannerResult, PlannerStatus
+from socialnav.planner.protocols import LocalPlannerProtocol
+from socialnav.social.goals import SocialGoal
 from socialnav.world.costmap import add_obstacle_discs, crop
 from socialnav.world.grid import Costmap
 
-SocialGoalFn = Callable[[SocialContext, FloatArray, FloatArray], Any]
+#: (people and structures, given goal (3,), robot pose (3,)) -> the social goal or None
+SocialGoalFn = Callable[[SocialContext, FloatArray, FloatArray], SocialGoal | None]
 # Per-cycle layer on the local window (e.g. a proxemic layer): (local costmap, people) -> costmap.
 CostmapLayer = Callable[[Costmap, SocialContext], Costmap]
 
 
 class Navigator:
     """Holds the static inflated ``costmap`` and the given ``goal (3,)``; ``step`` returns the
-    body twist for the current state. ``local_planner`` is a ``LocalPlanner`` or a wrapper with
-    the same ``plan``/``reset`` (e.g. ``RecoveringPlanner``)."""
+    body twist for the current state. ``local_planner``: any :class:`LocalPlannerProtocol` (a
+    ``LocalPlanner`` or a wrapper such as ``RecoveringPlanner``)."""
 
     def __init__(
         self,
         robot: RobotModel,
-        local_planner: Any,
+        local_planner: LocalPlannerProtocol,
         costmap: Costmap,
         goal: ArrayLike,
         social_goal_fn: SocialGoalFn | None = None,
@@ -154,18 +156,18 @@ class Navigator:
         )
         return self.local_planner.plan(ctx, record=self.record)
 
-    def _social_goal(self, social: SocialContext, pose: FloatArray) -> Any:
+    def _social_goal(self, social: SocialContext, pose: FloatArray) -> SocialGoal | None:
         if self.social_goal_fn is None:
             return None
         return self.social_goal_fn(social, self.goal, pose)
 
-    def _target(self, sg: Any, pose: FloatArray) -> FloatArray:
+    def _target(self, sg: SocialGoal | None, pose: FloatArray) -> FloatArray:
         if sg is None:
             return self.goal
         sg_pose = np.asarray(sg.pose, dtype=float)
-        if not getattr(sg, "is_waypoint", False):
+        if not sg.is_waypoint:
             return sg_pose
-        tol = max(float(getattr(sg, "position_tolerance", 0.0)), 0.1)
+        tol = max(float(sg.position_tolerance), 0.1)
         if any(np.hypot(*(sg_pose[:2] - w[:2])) <= max(tol, 0.3) for w in self._passed_waypoints):
             return self.goal
         if np.hypot(*(sg_pose[:2] - pose[:2])) <= tol:

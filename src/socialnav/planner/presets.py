@@ -30,7 +30,6 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any
 
 import numpy as np
 
@@ -52,6 +51,7 @@ from socialnav.planner.local_planner import (
 from socialnav.planner.navigator import Navigator
 from socialnav.planner.objectives import Objective
 from socialnav.planner.recovery import RecoveringPlanner
+from socialnav.social.goals import SocialGoal
 from socialnav.world.grid import Costmap
 
 # The reference navigation code's scalarization weights, by objective kind.
@@ -68,7 +68,8 @@ LOCAL_WINDOW = 5.0
 
 @dataclass(frozen=True)
 class PlannerPreset:
-    """How to build one named planner; ``objectives`` maps a scene to objectives + weights."""
+    """How to build one named planner; ``objectives`` maps a scene to objectives + weights;
+    ``order`` places it in listings and reports (ascending, baselines first)."""
 
     description: str
     objectives: Callable[[SocialContext, bool, LocalPlannerParams], list[tuple[Objective, float]]]
@@ -80,6 +81,7 @@ class PlannerPreset:
     params: LocalPlannerParams = field(default_factory=LocalPlannerParams)
     #: (m, rad) replacing the social goal's own arrival tolerances; None keeps them
     spot_tolerance: tuple[float, float] | None = None
+    order: int = 1000
 
 
 PRESETS: Registry[PlannerPreset] = Registry("planner preset")
@@ -185,7 +187,10 @@ def single_weight(weights: list[float]) -> SelectionStrategy:
 PRESETS.add(
     "traditional",
     PlannerPreset(
-        "ROS trajectory rollout, weighted sum, no social terms", navigation_only, single_weight
+        "ROS trajectory rollout, weighted sum, no social terms",
+        navigation_only,
+        single_weight,
+        order=10,
     ),
 )
 PRESETS.add(
@@ -195,6 +200,7 @@ PRESETS.add(
         navigation_only,
         single_weight,
         proxemic_layer=True,
+        order=20,
     ),
 )
 PRESETS.add(
@@ -204,6 +210,7 @@ PRESETS.add(
         recommended_objectives,
         weighted_sum,
         social_goal=True,
+        order=30,
     ),
 )
 PRESETS.add(
@@ -214,6 +221,7 @@ PRESETS.add(
         paper_selection,
         social_goal=True,
         predict_people=False,
+        order=70,
     ),
 )
 PRESETS.add(
@@ -226,6 +234,7 @@ PRESETS.add(
         social_global_path=True,
         params=RECOMMENDED_PARAMS,
         spot_tolerance=RECOMMENDED_SPOT_TOLERANCE,
+        order=80,
     ),
 )
 
@@ -242,9 +251,11 @@ class StickySocialGoal:
         self.moved = moved
         self.tolerance = tolerance
         self._positions: np.ndarray | None = None
-        self._goal: Any = None
+        self._goal: SocialGoal | None = None
 
-    def __call__(self, social: SocialContext, given_goal: np.ndarray, pose: np.ndarray) -> Any:
+    def __call__(
+        self, social: SocialContext, given_goal: np.ndarray, pose: np.ndarray
+    ) -> SocialGoal | None:
         from socialnav.social.resolve import resolve_social_goal
 
         positions = social.positions()

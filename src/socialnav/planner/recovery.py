@@ -28,7 +28,8 @@ from socialnav.core.geometry import FloatArray, wrap_angle
 from socialnav.core.robot import RobotModel
 from socialnav.planner.context import PlanningContext
 from socialnav.planner.critics.occupancy import OccupancyCritic
-from socialnav.planner.local_planner import LocalPlanner, PlannerResult, PlannerStatus
+from socialnav.planner.local_planner import PlannerResult, PlannerStatus
+from socialnav.planner.protocols import LocalPlannerProtocol
 from socialnav.planner.rollout import RolloutParams, rollout
 from socialnav.world.grid import INSCRIBED
 
@@ -77,10 +78,10 @@ def clearance(ctx: PlanningContext, headings: FloatArray, max_range: float) -> F
 
 
 class RecoveringPlanner:
-    """Wraps a :class:`LocalPlanner`: recoveries on ``NO_LEGAL_TRAJECTORY``, ``STUCK`` on no
-    progress. Never raises on a well-typed context."""
+    """Wraps any :class:`LocalPlannerProtocol` (and is one): recoveries on
+    ``NO_LEGAL_TRAJECTORY``, ``STUCK`` on no progress. Never raises on a well-typed context."""
 
-    def __init__(self, planner: LocalPlanner, params: RecoveryParams | None = None) -> None:
+    def __init__(self, planner: LocalPlannerProtocol, params: RecoveryParams | None = None) -> None:
         self.planner = planner
         self.params = params or RecoveryParams()
         self._occupancy = OccupancyCritic()
@@ -117,7 +118,9 @@ class RecoveringPlanner:
         ):
             self._anchor, self._anchor_time = pose.copy(), float(ctx.time)
         if self._stuck:
-            return PlannerResult(np.zeros(3), PlannerStatus.STUCK, None, "stuck (latched)")
+            return PlannerResult(
+                np.zeros(3), PlannerStatus.STUCK, None, "stuck (latched)", self._goal
+            )
         if float(ctx.time) - self._anchor_time > self.params.progress_time:
             return self._give_up(
                 f"no {self.params.progress_radius} m progress in {self.params.progress_time} s"
@@ -126,7 +129,7 @@ class RecoveringPlanner:
             cmd = self._recovery_cmd(ctx)
             if cmd is not None:
                 why = f"recovery: {self._phase}"
-                return PlannerResult(cmd, PlannerStatus.RECOVERING, None, why)
+                return PlannerResult(cmd, PlannerStatus.RECOVERING, None, why, self._goal)
         result = self.planner.plan(ctx, record)
         if result.status in (PlannerStatus.GOAL_REACHED, PlannerStatus.ROTATING_TO_GOAL):
             self._anchor, self._anchor_time = pose.copy(), float(ctx.time)
@@ -142,12 +145,16 @@ class RecoveringPlanner:
         if cmd is None:
             cmd = np.zeros(3)
         return PlannerResult(
-            cmd, PlannerStatus.RECOVERING, result.record, f"recovery after: {result.message}"
+            cmd,
+            PlannerStatus.RECOVERING,
+            result.record,
+            f"recovery after: {result.message}",
+            self._goal,
         )
 
     def _give_up(self, why: str) -> PlannerResult:
         self._stuck, self._phase = True, None
-        return PlannerResult(np.zeros(3), PlannerStatus.STUCK, None, why)
+        return PlannerResult(np.zeros(3), PlannerStatus.STUCK, None, why, self._goal)
 
     def _start(self, ctx: PlanningContext) -> None:
         p = self.params

@@ -61,16 +61,6 @@ SCENARIO_METRICS = [
     ("path_length", "path (m)"),
     ("time_to_goal", "time (s)"),
 ]
-PREFERRED_ORDER = [
-    "traditional",
-    "proxemic_layer",
-    "weighted_social",
-    "orca",
-    "hl",
-    "social_force",
-    "paccet_paper",
-    "paccet",
-]
 
 
 def _metric(row: dict[str, Any], name: str) -> float:
@@ -84,8 +74,10 @@ def _mean(values: Sequence[float]) -> float:
 
 
 def _planner_order(rows: Sequence[dict[str, Any]]) -> list[str]:
+    from socialnav.experiments.planners import planner_names
+
     present = {r["planner"] for r in rows}
-    known = [p for p in PREFERRED_ORDER if p in present]
+    known = [p for p in planner_names() if p in present]
     return known + sorted(present - set(known))
 
 

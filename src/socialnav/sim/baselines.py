@@ -1,9 +1,9 @@
 """Baselines that need no planner: navground's own behaviours and a naive go-to-goal law.
 
-- ``ORCA``, ``HL``, ``SocialForce`` (and ``HRVO``, ``Dummy``): navground behaviours driving the
-  robot disc (circumscribed radius) toward the scenario's target through a ``Waypoints`` task
-  (the social waypoint first where there is one); they see walls and people through navground's
-  ``Bounded`` state estimation. These are the peers a navground user would pick.
+- ``orca``, ``hl``, ``social_force``: navground behaviours (``ORCA``, ``HL``, ``SocialForce``)
+  wrapped as a :class:`NavgroundController`, driving the robot disc (circumscribed radius) toward
+  the scenario's target (the social waypoint first where there is one); they see the walls and
+  the people within navground's sensing range. These are the peers a navground user would pick.
 - ``go_to_goal``: :class:`GoToGoalController`, a proportional law straight at the goal that
   ignores everyone — a lower bound and the test controller of the simulator.
 """
@@ -11,52 +11,146 @@
 from __future__ import annotations
 
 import math
+from functools import partial
 from typing import TYPE_CHECKING
 
 import numpy as np
-from navground import core, sim
+from navground import core
 
+from socialnav.core.errors import ConfigurationError
 from socialnav.core.geometry import FloatArray, wrap_angle
 from socialnav.core.robot import RobotModel
 from socialnav.core.scene import SocialContext
-from socialnav.sim.controller import CONTROLLERS, GOAL_REACHED, ControlOutput
+from socialnav.planner.local_planner import PlannerResult, PlannerStatus
+from socialnav.sim.controller import CONTROLLERS, GOAL_REACHED, register_controller
+from socialnav.sim.engine import make_kinematics, static_segments
+from socialnav.sim.humans import SENSING_RANGE
+from socialnav.sim.target import resolve_target
 
 if TYPE_CHECKING:
     from socialnav.sim.scenario import Scenario
 
-NAVGROUND_BEHAVIORS = ("ORCA", "HL", "SocialForce", "HRVO", "Dummy")
+#: navground behaviours registered as controllers: name → (navground type, description, order)
+NAVGROUND_CONTROLLERS: dict[str, tuple[str, str, int]] = {
+    "orca": ("ORCA", "navground ORCA (velocity obstacles) driving the robot", 40),
+    "hl": ("HL", "navground HL, the human-like behaviour", 50),
+    "social_force": ("SocialForce", "navground SocialForce (Helbing) driving the robot", 60),
+}
 
 
-def make_baseline(
-    name: str,
-    robot: RobotModel,
-    waypoints: list[FloatArray],
-    final_yaw: float | None,
-    tolerance: float,
-    angular_tolerance: float = 0.2,
-) -> tuple[core.Behavior, sim.Task]:
-    """A navground behaviour ``name`` and its ``Waypoints`` task through ``waypoints`` ``[(2,)]``.
+def make_behavior(name: str, robot: RobotModel) -> core.Behavior:
+    """navground behaviour ``name`` for ``robot``: its kinematics, circumscribed radius, and
+    speeds capped at the robot's ``max_vel_x`` (m/s) / ``max_vel_theta`` (rad/s).
 
-    Speeds are capped at the robot's ``max_vel_x`` / ``max_vel_theta``.
+    Raises ``ConfigurationError`` when navground has no behaviour of that name.
     """
     behavior = core.Behavior.make_type(name)
-    if behavior is None:  # pragma: no cover - names are checked by the caller
-        raise ValueError(f"navground has no behaviour {name!r}")
+    if behavior is None:
+        raise ConfigurationError(f"navground has no behaviour {name!r}")
     behavior.max_speed = float(robot.max_vel_x)
     behavior.optimal_speed = float(robot.max_vel_x)
     behavior.max_angular_speed = float(robot.max_vel_theta)
     behavior.optimal_angular_speed = float(robot.max_vel_theta)
-    kwargs: dict[str, object] = {}
-    if final_yaw is not None:
-        kwargs["orientations"] = [float(final_yaw)] * len(waypoints)
-        kwargs["angular_tolerance"] = float(angular_tolerance)
-    task = sim.tasks.WaypointsTask(
-        waypoints=[np.asarray(w, dtype=float) for w in waypoints],
-        loop=False,
-        tolerance=float(tolerance),
-        **kwargs,
-    )
-    return behavior, task
+    # Kinematics last, as a navground agent sets them (navground then raises the speed caps to
+    # the kinematics' own; the box limits are enforced by clamp_to_robot).
+    behavior.kinematics = make_kinematics(robot)
+    behavior.radius = float(robot.circumscribed_radius)
+    return behavior
+
+
+class NavgroundController:
+    """A navground behaviour (``ORCA``, ``HL``, ``SocialForce``, …) as a :class:`Controller`.
+
+    What a navground user would run instead of our planner, given what navground's ``Bounded``
+    state estimation and ``Waypoints`` task would give it: the walls, polygon edges and obstacle
+    discs of the scenario; the people within ``sensing_range`` m (their position, velocity and
+    radius); the waypoints ``[social waypoint, target]`` (the social goal where there is one,
+    :func:`~socialnav.sim.target.resolve_target`) in turn, each with the target's yaw and
+    ``tolerance_factor × goal_tolerance`` m / ``angular_tolerance`` rad. ``GOAL_REACHED`` with a
+    zero command once the last waypoint is satisfied.
+    """
+
+    def __init__(
+        self,
+        behavior: str,
+        sensing_range: float = SENSING_RANGE,
+        tolerance_factor: float = 0.5,
+        angular_tolerance: float = 0.2,
+        record: bool = False,
+    ) -> None:
+        del record  # navground evaluates no candidate set to record
+        self.behavior_name = behavior
+        self.sensing_range = float(sensing_range)
+        self.tolerance_factor = float(tolerance_factor)
+        self.angular_tolerance = float(angular_tolerance)
+        self._behavior: core.Behavior | None = None
+        self._waypoints: list[FloatArray] = []
+        self._index = 0
+        self._target = np.zeros(3)
+        self._dt = 0.1
+
+    def reset(self, scenario: Scenario, robot: RobotModel) -> None:
+        target = resolve_target(scenario, scenario.social_context(scenario.start))
+        self._target = np.asarray(target.pose, dtype=float)
+        self._waypoints = [] if target.waypoint is None else [target.waypoint]
+        self._waypoints.append(self._target[:2])
+        self._index = 0
+        self._tolerance = self.tolerance_factor * float(scenario.goal_tolerance)
+        self._dt = float(scenario.control_period)
+        behavior = make_behavior(self.behavior_name, robot)
+        state = behavior.environment_state
+        state.line_obstacles = [
+            core.LineSegment(tuple(a), tuple(b)) for a, b in static_segments(scenario)
+        ]
+        state.static_obstacles = [
+            core.Disc((float(x), float(y)), float(r)) for x, y, r in scenario.discs_array()
+        ]
+        self._behavior = behavior
+        self._set_target()
+
+    def _set_target(self) -> None:
+        assert self._behavior is not None
+        point = self._waypoints[self._index]
+        self._behavior.target = core.Target(
+            position=(float(point[0]), float(point[1])),
+            orientation=float(self._target[2]),
+            position_tolerance=self._tolerance,
+            orientation_tolerance=self.angular_tolerance,
+        )
+
+    def step(
+        self, time: float, pose: FloatArray, velocity: FloatArray, social: SocialContext
+    ) -> PlannerResult:
+        b = self._behavior
+        if b is None:
+            return PlannerResult(np.zeros(3), PlannerStatus.INVALID_INPUT, None, "reset() first")
+        b.pose = core.Pose2((float(pose[0]), float(pose[1])), float(pose[2]))
+        # World-frame twist, also as the actuated one: ORCA smooths from the actuated twist and
+        # keeps it in the frame it was set in.
+        c, s = math.cos(pose[2]), math.sin(pose[2])
+        vx, vy = velocity[0] * c - velocity[1] * s, velocity[0] * s + velocity[1] * c
+        twist = core.Twist2((float(vx), float(vy)), float(velocity[2]), frame=core.Frame.absolute)
+        b.twist = twist
+        b.actuated_twist = twist
+        if b.check_if_target_satisfied():
+            if self._index + 1 >= len(self._waypoints):
+                return PlannerResult(np.zeros(3), GOAL_REACHED, None, "", self._target)
+            self._index += 1
+            self._set_target()
+        positions, velocities, radii = social.positions(), social.velocities(), social.radii()
+        near = np.hypot(*(positions - pose[:2]).T) <= self.sensing_range
+        b.environment_state.neighbors = [
+            core.Neighbor(
+                (float(p[0]), float(p[1])), float(r), (float(v[0]), float(v[1])), int(person.id)
+            )
+            for p, v, r, person, keep in zip(
+                positions, velocities, radii, social.people, near, strict=True
+            )
+            if keep
+        ]
+        out = b.compute_cmd(self._dt, core.Frame.relative)
+        cmd = np.array([out.velocity[0], out.velocity[1], out.angular_speed], dtype=float)
+        return PlannerResult(cmd, PlannerStatus.OK, None, "", self._target)
 
 
 class GoToGoalController:
@@ -73,7 +167,9 @@ class GoToGoalController:
         xy_tolerance: float = 0.1,
         yaw_tolerance: float = 0.1,
         turn_in_place: float = 0.5,
+        record: bool = False,
     ) -> None:
+        del record  # nothing to record
         self.gain = gain
         self.angular_gain = angular_gain
         self.xy_tolerance = xy_tolerance
@@ -88,15 +184,19 @@ class GoToGoalController:
 
     def step(
         self, time: float, pose: FloatArray, velocity: FloatArray, social: SocialContext
-    ) -> ControlOutput:
+    ) -> PlannerResult:
         assert self.robot is not None, "reset() first"
         delta = self.goal[:2] - pose[:2]
         dist = float(np.hypot(*delta))
         if dist <= self.xy_tolerance:
             err = float(wrap_angle(self.goal[2] - pose[2]))
             if abs(err) <= self.yaw_tolerance:
-                return ControlOutput(np.zeros(3), GOAL_REACHED)
-            return ControlOutput(np.array([0.0, 0.0, self.angular_gain * err]), "ROTATING_TO_GOAL")
+                return PlannerResult(np.zeros(3), GOAL_REACHED, target=self.goal)
+            return PlannerResult(
+                np.array([0.0, 0.0, self.angular_gain * err]),
+                PlannerStatus.ROTATING_TO_GOAL,
+                target=self.goal,
+            )
         c, s = math.cos(pose[2]), math.sin(pose[2])
         body = np.array([c * delta[0] + s * delta[1], -s * delta[0] + c * delta[1]])
         speed = self.gain * dist
@@ -112,11 +212,26 @@ class GoToGoalController:
                 [1.0] + [lim / abs(c) for lim, c in zip(limits, v, strict=True) if abs(c) > 1e-12]
             )
             v = v * max(scale, 0.0)
-            return ControlOutput(np.array([v[0], v[1], self.angular_gain * heading_err]))
+            cmd = np.array([v[0], v[1], self.angular_gain * heading_err])
+            return PlannerResult(cmd, PlannerStatus.OK, target=self.goal)
         if abs(heading_err) > self.turn_in_place:
-            return ControlOutput(np.array([0.0, 0.0, self.angular_gain * heading_err]))
+            cmd = np.array([0.0, 0.0, self.angular_gain * heading_err])
+            return PlannerResult(cmd, PlannerStatus.OK, target=self.goal)
         vx = min(speed, self.robot.max_vel_x) * math.cos(heading_err)
-        return ControlOutput(np.array([vx, 0.0, self.angular_gain * heading_err]))
+        cmd = np.array([vx, 0.0, self.angular_gain * heading_err])
+        return PlannerResult(cmd, PlannerStatus.OK, target=self.goal)
 
 
-CONTROLLERS.add("go_to_goal", GoToGoalController)
+for _name, (_type, _description, _order) in NAVGROUND_CONTROLLERS.items():
+    if _name not in CONTROLLERS:
+        register_controller(
+            _name, partial(NavgroundController, _type), _description, order=_order, kind="navground"
+        )
+if "go_to_goal" not in CONTROLLERS:
+    register_controller(
+        "go_to_goal",
+        GoToGoalController,
+        "proportional control straight at the goal, ignoring people (a lower bound)",
+        order=900,
+        compared=False,
+    )

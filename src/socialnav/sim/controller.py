@@ -1,9 +1,12 @@
 """The contract between the simulator and a planner: one body twist per control period.
 
 A :class:`Controller` never sees navground: the simulator hands it the robot pose, the body
-velocity and the :class:`SocialContext`; it answers with a :class:`ControlOutput`. Planners
-register a zero-argument-or-keyword factory in :data:`CONTROLLERS` so that episodes can be run
-by name in worker processes (``run_episode(..., controller="paccet")``).
+velocity and the :class:`SocialContext`; it answers with a
+:class:`~socialnav.planner.local_planner.PlannerResult` (command, status, the evaluation record
+when asked, the target it drove toward). Every controller a user can pick by name — our planner
+presets, navground's behaviours wrapped as controllers, the simple baselines — is one entry of
+:data:`CONTROLLERS`, with its description and display order; the CLI's ``--planner`` choices, the
+report's order and the default comparison are views of it (:func:`controller_names`).
 """
 
 from __future__ import annotations
@@ -18,28 +21,21 @@ from socialnav.core.geometry import FloatArray
 from socialnav.core.registry import Registry
 from socialnav.core.robot import RobotModel
 from socialnav.core.scene import SocialContext
+from socialnav.planner.local_planner import PlannerResult, PlannerStatus
 
 if TYPE_CHECKING:
     from socialnav.sim.scenario import Scenario
 
-GOAL_REACHED = "GOAL_REACHED"
-
-
-@dataclass(frozen=True)
-class ControlOutput:
-    """``cmd (3,)`` body twist ``(vx, vy, wz)`` in m/s and rad/s; ``status`` a planner status name
-    (``"OK"``, ``"GOAL_REACHED"``, …); ``diagnostics`` anything the controller wants recorded."""
-
-    cmd: FloatArray
-    status: str = "OK"
-    diagnostics: Any | None = None
+GOAL_REACHED = PlannerStatus.GOAL_REACHED
 
 
 @runtime_checkable
 class Controller(Protocol):
     """What the simulator drives: reset once per episode, then one step per control period."""
 
-    def reset(self, scenario: Scenario, robot: RobotModel) -> None: ...
+    def reset(self, scenario: Scenario, robot: RobotModel) -> None:
+        """Start an episode of ``scenario`` (already randomized) with ``robot``."""
+        ...
 
     def step(
         self,
@@ -47,15 +43,67 @@ class Controller(Protocol):
         pose: FloatArray,
         velocity: FloatArray,
         social: SocialContext,
-    ) -> ControlOutput:
-        """``time`` (s), ``pose (3,)`` world ``(x, y, yaw)``, ``velocity (3,)`` body twist."""
+    ) -> PlannerResult:
+        """``time`` (s), ``pose (3,)`` world ``(x, y, yaw)``, ``velocity (3,)`` body twist.
+
+        Returns the body twist to apply (m/s, rad/s) with a status; never raises on finite
+        input (a failure is a status with a safe command)."""
         ...
 
 
 ControllerFactory = Callable[..., Controller]
 
-#: name → factory ``(**params) -> Controller``; planners add themselves here.
-CONTROLLERS: Registry[ControllerFactory] = Registry("controller")
+
+@dataclass(frozen=True)
+class ControllerEntry:
+    """One controller a user can pick by name.
+
+    - ``factory(record=False, **params) -> Controller``; ``record=True`` keeps each cycle's
+      evaluation record in the results (for controllers that evaluate candidates);
+    - ``description``: one line for listings;
+    - ``order``: display order (CLI listing, report tables, default comparisons; ascending);
+    - ``compared``: whether ``socialnav compare`` runs it by default (a lower bound such as
+      ``go_to_goal`` is runnable by name but not part of the default comparison);
+    - ``kind``: ``"stack"`` (our navigation stack), ``"navground"`` (a navground behaviour)
+      or ``"baseline"``.
+    """
+
+    factory: ControllerFactory
+    description: str
+    order: int = 1000
+    compared: bool = True
+    kind: str = "baseline"
+
+
+#: name → :class:`ControllerEntry`; ``socialnav.sim.stack`` and ``socialnav.sim.baselines``
+#: register theirs on import (``socialnav.experiments.planners`` imports both).
+CONTROLLERS: Registry[ControllerEntry] = Registry("planner")
+
+
+def register_controller(
+    name: str,
+    factory: ControllerFactory,
+    description: str,
+    *,
+    order: int = 1000,
+    compared: bool = True,
+    kind: str = "baseline",
+) -> None:
+    """Add a controller under ``name`` (raises ``ConfigurationError`` if the name is taken)."""
+    CONTROLLERS.add(name, ControllerEntry(factory, description, order, compared, kind))
+
+
+def controller_names(compared_only: bool = False) -> list[str]:
+    """Registered names in display order (``order``, then name); ``compared_only`` keeps the
+    default comparison's."""
+    entries = [(CONTROLLERS.get(n).order, n) for n in CONTROLLERS.names()]
+    return [n for _, n in sorted(entries) if not compared_only or CONTROLLERS.get(n).compared]
+
+
+def make_controller(name: str, **params: Any) -> Controller:
+    """Build the controller registered as ``name`` (``ConfigurationError`` with the known names
+    when there is none)."""
+    return CONTROLLERS.get(name).factory(**params)
 
 
 def clamp_to_robot(cmd: FloatArray, robot: RobotModel) -> FloatArray:

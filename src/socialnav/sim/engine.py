@@ -25,7 +25,8 @@ from navground import core, sim
 from socialnav.core.geometry import FloatArray
 from socialnav.core.robot import RobotModel
 from socialnav.core.scene import SocialContext
-from socialnav.sim.controller import Controller, ControlOutput, clamp_to_robot
+from socialnav.planner.local_planner import PlannerResult
+from socialnav.sim.controller import Controller, clamp_to_robot
 from socialnav.sim.humans import make_person_agent
 from socialnav.sim.scenario import Scenario
 
@@ -74,7 +75,7 @@ class ControllerBehavior(core.Behavior):
         self.controller: Controller | None = None
         self.robot_model: RobotModel | None = None
         self.observe: Callable[[float], tuple[float, SocialContext]] | None = None
-        self.last_output: ControlOutput | None = None
+        self.last_output: PlannerResult | None = None
         self.last_cmd: FloatArray = np.zeros(3)
 
     def get_environment_state(self) -> core.GeometricState:
@@ -118,15 +119,22 @@ class SimWorld:
         return pos, vel, yaw
 
 
-def add_static_geometry(world: sim.World, scenario: Scenario) -> None:
-    """Walls as navground walls, obstacle polygons as their edges, discs as disc obstacles."""
-    for a, b in scenario.walls_array():
-        world.add_wall(sim.Wall(tuple(a), tuple(b)))
+def static_segments(scenario: Scenario) -> list[tuple[FloatArray, FloatArray]]:
+    """The line segments navground sees: the walls, then every obstacle polygon's edges
+    (rectangles included), each as ``(a (2,), b (2,))`` world points (m)."""
+    segments = [(a, b) for a, b in scenario.walls_array()]
     polygons = [np.asarray(p, dtype=float) for p in scenario.map.polygons]
     polygons += [r.polygon() for r in scenario.map.rectangles]
     for poly in polygons:
-        for a, b in zip(poly, np.roll(poly, -1, axis=0), strict=True):
-            world.add_wall(sim.Wall(tuple(a), tuple(b)))
+        segments += list(zip(poly, np.roll(poly, -1, axis=0), strict=True))
+    return segments
+
+
+def add_static_geometry(world: sim.World, scenario: Scenario) -> None:
+    """Walls and polygon edges as navground walls (:func:`static_segments`), discs as disc
+    obstacles."""
+    for a, b in static_segments(scenario):
+        world.add_wall(sim.Wall(tuple(a), tuple(b)))
     for x, y, r in scenario.discs_array():
         world.add_obstacle(sim.Obstacle((float(x), float(y)), float(r)))
 

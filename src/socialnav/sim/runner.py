@@ -8,8 +8,8 @@ record.
 Timing: one sample per control period ``dt`` (0.1 s, the paper's). Sample ``k`` holds the state
 at ``t = k·dt`` and the command applied for the following ``dt``. The episode ends at the first
 sample where the controller reports ``GOAL_REACHED`` with a zero command (commands act
-instantly, so the robot is stopped), where a navground baseline's task is done, or at the time
-limit (sample ``t = time_limit`` included).
+instantly, so the robot is stopped), or at the time limit (sample ``t = time_limit`` included).
+Every controller, navground behaviours included, runs through the same loop body.
 """
 
 from __future__ import annotations
@@ -25,13 +25,16 @@ from socialnav.core.episode import EpisodeRecord
 from socialnav.core.errors import ConfigurationError
 from socialnav.core.geometry import FloatArray
 from socialnav.core.robot import ROBOT_MODELS, RobotModel
-from socialnav.core.scene import SocialContext
-from socialnav.sim.baselines import NAVGROUND_BEHAVIORS, make_baseline
-from socialnav.sim.controller import CONTROLLERS, GOAL_REACHED, Controller
+from socialnav.planner.record import EvaluationRecord
+from socialnav.sim import baselines as _baselines  # noqa: F401  (registers navground, go_to_goal)
+from socialnav.sim import stack as _stack  # noqa: F401  (registers the planner presets)
+from socialnav.sim.controller import GOAL_REACHED, Controller, ControllerFactory, make_controller
 from socialnav.sim.engine import ControllerBehavior, SimWorld, build_world, pose_of
 from socialnav.sim.recorder import EpisodeRecorder, StaticGeometry, context_at
 from socialnav.sim.scenario import Scenario, load_scenario
-from socialnav.sim.stack import StackController  # noqa: F401  (registers the presets by name)
+from socialnav.sim.target import Target, resolve_target
+
+__all__ = ["EpisodeResult", "Target", "resolve_target", "run_episode", "simulate_world"]
 
 #: a controller counts as stopped below these speeds (m/s, rad/s)
 STOP_EPS = 1e-3
@@ -39,48 +42,19 @@ STOP_EPS = 1e-3
 
 @dataclass
 class EpisodeResult:
-    """``record``; ``diagnostics`` one entry per sample when asked; ``wall_time`` (s)."""
+    """``record``; ``diagnostics`` one evaluation record (or ``None``) per sample when asked;
+    ``wall_time`` (s); ``step_seconds`` the wall time of each control step (s), controller
+    included (timing: not part of the deterministic record)."""
 
     record: EpisodeRecord
-    diagnostics: list[Any] = field(default_factory=list)
+    diagnostics: list[EvaluationRecord | None] = field(default_factory=list)
     wall_time: float = 0.0
+    step_seconds: list[float] = field(default_factory=list)
 
-
-@dataclass(frozen=True)
-class Target:
-    """Where success is measured: ``pose (3,)``, optional ``waypoint (2,)``, and why."""
-
-    pose: FloatArray
-    waypoint: FloatArray | None
-    meta: dict[str, Any]
-
-
-def resolve_target(scenario: Scenario, social: SocialContext) -> Target:
-    """The social goal when one resolves (``socialnav.social.resolve``), else the given goal.
-
-    A social goal of kind ``waypoint`` (gallery activity) keeps the given goal as the target and
-    becomes the waypoint to pass.
-    """
-    goal = np.asarray(scenario.goal, dtype=float)
-    start = np.asarray(scenario.start, dtype=float)
-    try:
-        from socialnav.social.resolve import resolve_social_goal
-    except ModuleNotFoundError as exc:  # the social package is not there (partial install)
-        if exc.name is None or not exc.name.startswith("socialnav.social"):
-            raise
-        return Target(goal, None, {"social_goal": None, "social_goal_note": "unavailable"})
-    sg = resolve_social_goal(social, goal, start)
-    if sg is None:
-        return Target(goal, None, {"social_goal": None})
-    meta = {
-        "social_goal": sg.kind,
-        "social_goal_fallback": sg.fallback,
-        "social_goal_reason": sg.reason,
-    }
-    pose = np.asarray(sg.pose, dtype=float)
-    if sg.is_waypoint:
-        return Target(goal, pose[:2].copy(), meta)
-    return Target(pose, None, meta)
+    @property
+    def step_ms_median(self) -> float:
+        """Median control-step time (ms), NaN for an empty episode."""
+        return float(np.median(self.step_seconds) * 1e3) if self.step_seconds else float("nan")
 
 
 def _robot_model(robot: RobotModel | str) -> RobotModel:
@@ -91,9 +65,11 @@ def _robot_model(robot: RobotModel | str) -> RobotModel:
     return ROBOT_MODELS[robot]
 
 
-def _controller(spec: Any, params: dict[str, Any] | None) -> tuple[Controller, str]:
+def _controller(
+    spec: Controller | str | ControllerFactory, params: dict[str, Any] | None
+) -> tuple[Controller, str]:
     if isinstance(spec, str):
-        return CONTROLLERS.get(spec)(**(params or {})), spec
+        return make_controller(spec, **(params or {})), spec
     if not isinstance(spec, type) and isinstance(spec, Controller):
         return spec, type(spec).__name__
     if callable(spec):
@@ -104,7 +80,7 @@ def _controller(spec: Any, params: dict[str, Any] | None) -> tuple[Controller, s
 
 def run_episode(
     scenario: Scenario | str,
-    controller: Controller | str | Any,
+    controller: Controller | str | ControllerFactory,
     robot: RobotModel | str = "pr2",
     seed: int = 0,
     humans: str = "scripted",
@@ -116,10 +92,13 @@ def run_episode(
 ) -> EpisodeResult:
     """Simulate one episode and record it.
 
-    ``controller``: a :class:`Controller`, a factory, a name registered in ``CONTROLLERS``
-    (built with ``controller_params``), or a navground behaviour name (``ORCA``, ``HL``,
-    ``SocialForce``, ``HRVO``, ``Dummy``). ``humans``: ``"scripted"`` (the paper) or
-    ``"reactive"`` (navground ``reactive_behavior``, default ``HL``).
+    ``controller``: a :class:`Controller`, a factory, or a name registered in ``CONTROLLERS``
+    (built with ``controller_params``; navground behaviours are registered as ``orca``, ``hl``,
+    ``social_force``). ``humans``: ``"scripted"`` (the paper) or ``"reactive"`` (navground
+    ``reactive_behavior``, default ``HL``). Success is measured against the target the
+    controller recorded last (``PlannerResult.target``), else the scenario's
+    (:func:`~socialnav.sim.target.resolve_target`). ``diagnostics`` (when
+    ``record_diagnostics``) holds each sample's evaluation record or ``None``.
     """
     wall_start = _time.perf_counter()
     scn = load_scenario(scenario) if isinstance(scenario, str) else scenario
@@ -131,32 +110,12 @@ def run_episode(
     social0 = scn.social_context(scn.start)
     target = resolve_target(scn, social0)
 
-    baseline = isinstance(controller, str) and controller in NAVGROUND_BEHAVIORS
-    if baseline:
-        waypoints = [] if target.waypoint is None else [target.waypoint]
-        waypoints.append(target.pose[:2])
-        behavior, task = make_baseline(
-            controller, model, waypoints, float(target.pose[2]), tolerance=0.5 * scn.goal_tolerance
-        )
-        simw = build_world(
-            scn,
-            model,
-            behavior,
-            humans,
-            reactive_behavior,
-            robot_task=task,
-            sensing=True,
-            seed=seed,
-        )
-        planner_name = controller
-        ctrl_behavior = None
-    else:
-        ctrl, planner_name = _controller(controller, controller_params)
-        ctrl.reset(scn, model)
-        ctrl_behavior = ControllerBehavior()
-        ctrl_behavior.controller = ctrl
-        ctrl_behavior.robot_model = model
-        simw = build_world(scn, model, ctrl_behavior, humans, reactive_behavior, seed=seed)
+    ctrl, planner_name = _controller(controller, controller_params)
+    ctrl.reset(scn, model)
+    ctrl_behavior = ControllerBehavior()
+    ctrl_behavior.controller = ctrl
+    ctrl_behavior.robot_model = model
+    simw = build_world(scn, model, ctrl_behavior, humans, reactive_behavior, seed=seed)
 
     static = StaticGeometry(scn.walls_array(), tuple(scn.obstacle_polygons()), scn.discs_array())
     recorder = EpisodeRecorder(
@@ -165,7 +124,9 @@ def run_episode(
         np.array([p.radius for p in scn.people], dtype=float),
         static,
     )
-    diagnostics: list[Any] = []
+    diagnostics: list[EvaluationRecord | None] = []
+    step_seconds: list[float] = []
+    driven_to: FloatArray | None = None
     dt = float(scn.control_period)
     last = round(scn.time_limit / dt)
     reason = "time_limit"
@@ -173,37 +134,31 @@ def run_episode(
         t = k * dt
         pose = pose_of(simw.robot)
         pos, vel, yaw = simw.people_state()
-        if ctrl_behavior is not None:
-            social = context_at(social0, pos, vel, yaw)
-            ctrl_behavior.observe = lambda _dt, t=t, social=social: (t, social)
-            simw.world.update(dt)
-            out = ctrl_behavior.last_output
-            cmd = ctrl_behavior.last_cmd
-            status = out.status if out is not None else "NO_CONTROLLER"
-            if record_diagnostics:
-                diagnostics.append(None if out is None else out.diagnostics)
-            done = status == GOAL_REACHED and bool(np.all(np.abs(cmd) < STOP_EPS))
-        else:
-            done = bool(simw.robot.task.done())
-            simw.world.update(dt)
-            last_cmd = simw.robot.get_last_cmd(core.Frame.relative)
-            cmd = np.array(
-                [last_cmd.velocity[0], last_cmd.velocity[1], last_cmd.angular_speed], dtype=float
-            )
-            status = GOAL_REACHED if done else "OK"
-            if record_diagnostics:
-                diagnostics.append(None)
+        social = context_at(social0, pos, vel, yaw)
+        ctrl_behavior.observe = lambda _dt, t=t, social=social: (t, social)
+        started = _time.perf_counter()
+        simw.world.update(dt)
+        step_seconds.append(_time.perf_counter() - started)
+        out = ctrl_behavior.last_output
+        cmd = ctrl_behavior.last_cmd
+        status = out.status.value if out is not None else "NO_CONTROLLER"
+        if out is not None and out.target is not None and np.all(np.isfinite(out.target)):
+            driven_to = out.target
+        if record_diagnostics:
+            diagnostics.append(None if out is None else out.record)
+        done = status == GOAL_REACHED and bool(np.all(np.abs(cmd) < STOP_EPS))
         recorder.add(t, pose, cmd, pos, vel, status)
         if done:
             reason = "goal_reached"
             break
 
+    measured = target.pose if driven_to is None or target.waypoint is not None else driven_to
     record = recorder.build(
         dt=dt,
         robot_radius=model.circumscribed_radius,
         start=np.asarray(scn.start, dtype=float),
         goal=np.asarray(scn.goal, dtype=float),
-        target=target.pose,
+        target=np.array(measured, dtype=float),
         waypoint=target.waypoint,
         goal_tolerance=float(scn.goal_tolerance),
         time_limit=float(scn.time_limit),
@@ -222,7 +177,7 @@ def run_episode(
             **target.meta,
         },
     )
-    return EpisodeResult(record, diagnostics, _time.perf_counter() - wall_start)
+    return EpisodeResult(record, diagnostics, _time.perf_counter() - wall_start, step_seconds)
 
 
 def simulate_world(simw: SimWorld, steps: int, dt: float) -> None:

@@ -1,13 +1,12 @@
 """Our navigation stack behind the simulator's :class:`Controller` interface.
 
 Every planner preset (``socialnav.planner.presets.PRESETS``) is registered in ``CONTROLLERS``
-under its name, so ``run_episode(scenario, "paccet", …)`` and navground's own YAML experiments
-(through the ``SocialNav`` behaviour) can use it.
+under its name and display order, so ``run_episode(scenario, "paccet", …)``, the CLI and
+navground's own YAML experiments (through the ``SocialNav`` behaviour) can use it.
 """
 
 from __future__ import annotations
 
-import time as clock
 from functools import partial
 from typing import TYPE_CHECKING
 
@@ -16,8 +15,9 @@ import numpy as np
 from socialnav.core.geometry import FloatArray
 from socialnav.core.robot import RobotModel
 from socialnav.core.scene import SocialContext
+from socialnav.planner.local_planner import PlannerResult, PlannerStatus
 from socialnav.planner.presets import PRESETS, build_navigator
-from socialnav.sim.controller import CONTROLLERS, ControlOutput
+from socialnav.sim.controller import CONTROLLERS, register_controller
 
 if TYPE_CHECKING:
     from socialnav.planner.navigator import Navigator
@@ -32,7 +32,6 @@ class StackController:
         self.preset = preset
         self.record = record
         self.navigator: Navigator | None = None
-        self.plan_seconds: list[float] = []
 
     def reset(self, scenario: Scenario, robot: RobotModel) -> None:
         self.navigator = build_navigator(
@@ -43,23 +42,22 @@ class StackController:
             social=scenario.social_context(scenario.start),
             record=self.record,
         )
-        self.plan_seconds = []
 
     def step(
         self, time: float, pose: FloatArray, velocity: FloatArray, social: SocialContext
-    ) -> ControlOutput:
+    ) -> PlannerResult:
         if self.navigator is None:
-            return ControlOutput(np.zeros(3), "NOT_RESET")
-        started = clock.perf_counter()
-        result = self.navigator.step(time, pose, velocity, social)
-        self.plan_seconds.append(clock.perf_counter() - started)
-        return ControlOutput(result.cmd, str(result.status.value), result if self.record else None)
-
-    @property
-    def median_plan_ms(self) -> float:
-        return float(np.median(self.plan_seconds) * 1e3) if self.plan_seconds else float("nan")
+            return PlannerResult(np.zeros(3), PlannerStatus.INVALID_INPUT, None, "reset() first")
+        return self.navigator.step(time, pose, velocity, social)
 
 
 for _name in PRESETS.names():
     if _name not in CONTROLLERS:
-        CONTROLLERS.add(_name, partial(StackController, _name))
+        _preset = PRESETS.get(_name)
+        register_controller(
+            _name,
+            partial(StackController, _name),
+            _preset.description,
+            order=_preset.order,
+            kind="stack",
+        )

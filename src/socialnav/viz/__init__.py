@@ -4,7 +4,7 @@ Everything draws on :class:`matplotlib.figure.Figure` objects with the Agg canva
 pyplot's global state, so the module is safe in workers and headless CI.
 """
 
-from socialnav.viz.animation import FanFrame, animate_episode, to_fan_frame
+from socialnav.viz.animation import FanFrame, animate_episode, fan_frame
 from socialnav.viz.pareto import plot_decision, plot_tradeoff
 from socialnav.viz.style import PLANNER_STYLES, PathStyle, planner_style
 from socialnav.viz.topdown import plot_comparison, plot_episode, save_figure
@@ -14,11 +14,11 @@ __all__ = [
     "FanFrame",
     "PathStyle",
     "animate_episode",
+    "fan_frame",
     "planner_style",
     "plot_comparison",
     "plot_decision",
     "plot_episode",
     "plot_tradeoff",
     "save_figure",
-    "to_fan_frame",
 ]

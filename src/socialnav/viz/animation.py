@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import math
 import os
-from collections.abc import Mapping, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Literal
@@ -28,10 +28,11 @@ from matplotlib.patches import Circle, Polygon
 
 from socialnav.core.episode import EpisodeRecord
 from socialnav.core.geometry import FloatArray
+from socialnav.planner.record import EvaluationRecord
 from socialnav.viz import _layers as L
 from socialnav.viz.style import COLORS, planner_style
 
-__all__ = ["FanFrame", "animate_episode", "to_fan_frame"]
+__all__ = ["FanFrame", "animate_episode", "fan_frame"]
 
 #: Colormap of the fan: dark = best legal fitness, yellow = worst legal.
 FAN_CMAP = "viridis"
@@ -95,60 +96,21 @@ class FanFrame:
         return out
 
 
-_MISSING = object()
+def fan_frame(record: EvaluationRecord | None) -> FanFrame | None:
+    """The candidate fan of one control cycle, from the planner's evaluation record.
 
-
-def _lookup(obj: Any, *paths: str) -> Any:
-    """First of the dotted ``paths`` found on ``obj`` (mapping keys or attributes)."""
-    for path in paths:
-        cur = obj
-        for part in path.split("."):
-            if isinstance(cur, Mapping):
-                cur = cur.get(part, _MISSING)
-            else:
-                cur = getattr(cur, part, _MISSING)
-            if cur is _MISSING or cur is None:
-                break
-        else:
-            return cur
-    return None
-
-
-def to_fan_frame(diag: Any) -> FanFrame | None:
-    """Convert one step's planner diagnostics into a :class:`FanFrame` (``None`` passes through).
-
-    Accepts a ``FanFrame``, a mapping or any object with (first match wins):
-
-    - poses: ``poses``, ``xy``, ``trajectories.poses``, ``end_poses``, ``trajectories.end_poses``;
-    - fitness: ``fitness``, ``selection.fitness``, ``scores``;
-    - legal: ``legal``, ``evaluation.legal`` (default ``isfinite(fitness)``);
-    - chosen: ``chosen``, ``chosen_index``, ``selection.index``, ``index``, ``best_index``.
-
-    Raises ``ValueError`` when poses or fitness cannot be found.
+    ``record.end_poses (N, 3)`` become the fan's end points (``S = 1``; whole rollouts are not
+    recorded), ``record.fitness (N,)``, ``record.legal (N,)`` and ``record.chosen`` are taken
+    as they are. Returns ``None`` for a cycle that evaluated no candidates or selected none by
+    fitness (no record, goal reached, a recovery step, rotate-to-goal without selection).
     """
-    if diag is None or isinstance(diag, FanFrame):
-        return diag
-    poses = _lookup(
-        diag, "poses", "xy", "trajectories.poses", "end_poses", "trajectories.end_poses"
-    )
-    fitness = _lookup(diag, "fitness", "selection.fitness", "scores")
-    if poses is None or fitness is None:
-        raise ValueError(
-            f"cannot build a FanFrame from {type(diag).__name__}: need poses "
-            "(poses | xy | trajectories.poses | end_poses) and fitness "
-            "(fitness | selection.fitness | scores)"
-        )
-    fitness = np.asarray(fitness, dtype=float)
-    legal = _lookup(diag, "legal", "evaluation.legal")
-    if legal is None:
-        legal = np.isfinite(fitness)
-    chosen = _lookup(diag, "chosen", "chosen_index", "selection.index", "index", "best_index")
-    return FanFrame(
-        np.asarray(poses, dtype=float),
-        fitness,
-        np.asarray(legal, dtype=bool),
-        None if chosen is None else int(chosen),
-    )
+    if record is None or record.num_samples == 0 or record.fitness is None:
+        return None
+    if record.end_poses.shape[0] != record.num_samples or record.legal.shape != (
+        record.num_samples,
+    ):
+        return None
+    return FanFrame(record.end_poses[:, :2], record.fitness, record.legal, record.chosen)
 
 
 def _thin(n: int, chosen: int | None, limit: int) -> np.ndarray:
@@ -186,7 +148,7 @@ def _format(path: Path, fmt: str | None) -> str:
 
 def animate_episode(
     record: EpisodeRecord,
-    diagnostics: Sequence[Any] | None = None,
+    fans: Sequence[FanFrame | None] | None = None,
     path: str | os.PathLike[str] | None = None,
     *,
     fps: float = 10.0,
@@ -200,11 +162,11 @@ def animate_episode(
 ) -> Path:
     """Render ``record`` as an animation at ``path`` (required) and return the path.
 
-    Call as ``animate_episode(record, diagnostics, path)`` or
+    Call as ``animate_episode(record, fans, path)`` or
     ``animate_episode(record, path=...)``; ``animate_episode(record, path)`` also works.
 
-    ``diagnostics[i]`` (optional) belongs to sample ``i`` of the record: ``None``, a
-    :class:`FanFrame` or anything :func:`to_fan_frame` understands; the candidate fan is drawn
+    ``fans[i]`` (optional) belongs to sample ``i`` of the record: ``None`` or a
+    :class:`FanFrame` (:func:`fan_frame` builds one from an evaluation record); the fan is drawn
     coloured by relative fitness, illegal candidates grey, the chosen one black. Frames are
     every ``stride``-th sample (default 2 on episodes longer than 40 samples) with at most
     ``max_frames`` frames; playback runs ``fps * dt * stride`` times real time. ``fmt``
@@ -212,23 +174,21 @@ def animate_episode(
     ``pip install 'socialnav[video]'``; ``ImportError`` otherwise).
 
     Raises ``ValueError`` on an empty record, a missing path, an unknown format, ``fps <= 0``
-    or diagnostics longer than the record.
+    or more fans than the record has samples.
     """
     L.check_record(record)
-    if isinstance(diagnostics, str | os.PathLike):
+    if isinstance(fans, str | os.PathLike):
         if path is not None:
-            raise ValueError("diagnostics must be a sequence, got a path (and a path was given)")
-        diagnostics, path = None, diagnostics
+            raise ValueError("fans must be a sequence, got a path (and a path was given)")
+        fans, path = None, fans
     if path is None:
         raise ValueError("animate_episode needs an output path (.gif or .mp4)")
     out = Path(path)
     kind = _format(out, fmt)
     if not fps > 0:
         raise ValueError(f"fps must be positive, got {fps}")
-    if diagnostics is not None and len(diagnostics) > record.num_steps:
-        raise ValueError(
-            f"{len(diagnostics)} diagnostics for a record of {record.num_steps} samples"
-        )
+    if fans is not None and len(fans) > record.num_steps:
+        raise ValueError(f"{len(fans)} fans for a record of {record.num_steps} samples")
     ffmpeg = None
     if kind == "mp4":
         try:
@@ -239,14 +199,11 @@ def animate_episode(
                 "(or write a GIF with fmt='gif')"
             ) from exc
     frames = frame_indices(record.num_steps, stride, max_frames)
-    fans = [
-        to_fan_frame(diagnostics[i]) if diagnostics is not None and i < len(diagnostics) else None
-        for i in frames
-    ]
+    shown = [fans[i] if fans is not None and i < len(fans) else None for i in frames]
     images = _render(
         record,
         frames,
-        fans,
+        shown,
         dpi=dpi,
         show_social=show_social,
         margin=margin,
