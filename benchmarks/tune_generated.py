@@ -8,7 +8,8 @@ prints pass rate and median time to goal per family. Usage::
 
 Variants: ``paccet`` (as shipped); ``no_partner`` (interaction partners keep the 1.5 m ID
 threshold); ``loose_spot`` (the social goals' own 0.25 m / 0.25 rad arrival tolerance and the
-default 0.10 m xy goal tolerance).
+default 0.10 m xy goal tolerance); ``no_arrival`` (rollouts scored at their full-horizon end
+point, base_local_planner's rule: the slow final approach).
 """
 
 from __future__ import annotations
@@ -29,6 +30,9 @@ VARIANTS = {
     "paccet": BASE,
     "no_partner": dataclasses.replace(BASE, objectives=recommended_objectives),
     "loose_spot": dataclasses.replace(BASE, spot_tolerance=None, params=LocalPlannerParams()),
+    "no_arrival": dataclasses.replace(
+        BASE, params=dataclasses.replace(BASE.params, stop_at_goal=False)
+    ),
 }
 
 

@@ -133,3 +133,39 @@ def test_unknown_family_and_bad_seed():
         generate("hallwya", 0)
     with pytest.raises(ConfigurationError):
         generate("hallway", -1)
+
+
+def test_walkers_lateral_jitter_shifts_the_line_sideways_only():
+    from socialnav.sim.scenario import Jitter
+
+    base = load_scenario("hallway_passing")
+    plain = base.model_copy(update={"jitter": Jitter(speed_uniform=0.05, start_shift=0.2)})
+    lateral = base.model_copy(
+        update={"jitter": Jitter(speed_uniform=0.05, start_shift=0.2, lateral_shift=0.3)}
+    )
+    shifts = []
+    for seed in range(8):
+        a, b = plain.randomize(seed), lateral.randomize(seed)
+        pa, pb = a.people[0], b.people[0]
+        # same speed and start along the line (the older draws are unchanged) ...
+        assert pa.behavior.velocity == pb.behavior.velocity
+        assert pa.position[0] == pytest.approx(pb.position[0])
+        # ... and the whole line, end point included, moved sideways (the walk is along -x)
+        dy = pb.position[1] - pa.position[1]
+        assert abs(dy) <= 0.3
+        assert pb.behavior.until[1] - pa.behavior.until[1] == pytest.approx(dy)
+        shifts.append(dy)
+    assert np.ptp(shifts) > 0.1
+
+
+def test_track_people_follow_their_track_and_ignore_the_robot():
+    from socialnav.core.robot import PR2
+    from socialnav.sim.engine import ControllerBehavior, build_world
+    from socialnav.sim.runner import simulate_world
+
+    scn = generate("crowdnav", 0)
+    simw = build_world(scn, PR2, ControllerBehavior(), "scripted")
+    simulate_world(simw, 50, 0.1)
+    pos, _, _ = simw.people_state()
+    for k, p in enumerate(scn.people):
+        assert np.allclose(pos[k], p.behavior.points[50], atol=2e-3)

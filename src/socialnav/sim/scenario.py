@@ -20,7 +20,7 @@ import math
 from collections.abc import Sequence
 from importlib import resources
 from pathlib import Path
-from typing import Annotated, Any, Literal
+from typing import Annotated, Any, Literal, get_args
 
 import numpy as np
 import yaml
@@ -44,16 +44,6 @@ from socialnav.world.grid import Costmap, GridGeometry
 #: scenario families: the paper's, the generated suite's ``mixed`` (a group or queue plus
 #: walkers) and ``crowdnav`` (Chen et al. 2019's circle crossing); "custom" = no family-specific
 #: success conditions
-FAMILIES = (
-    "hallway",
-    "gallery_present",
-    "gallery_activity",
-    "queue",
-    "group",
-    "mixed",
-    "crowdnav",
-    "custom",
-)
 FamilyName = Literal[
     "hallway",
     "gallery_present",
@@ -64,6 +54,7 @@ FamilyName = Literal[
     "crowdnav",
     "custom",
 ]
+FAMILIES: tuple[str, ...] = get_args(FamilyName)
 DISC_POLYGON_SIDES = 24
 
 
