@@ -16,7 +16,11 @@
   its degeneracy remedies and an L1 target on the flattened front (the reference weights always
   pick an extreme of the front, and the robot stalls outside 1.5 m of a person in a 3 m
   corridor); a global path over a personal-space cost and the groups' o-spaces; the social-goal
-  objective only near the social goal; activity-space intrusion as an objective.
+  objective only near the social goal; activity-space intrusion as an objective; interaction
+  partners at the interaction's own distance in ID (``partner_objectives``); arrival inside
+  ``RECOMMENDED_SPOT_TOLERANCE`` with rollouts that stop at the goal and are ranked by arrival
+  time (``RECOMMENDED_PARAMS``). The last three were measured on the generated suite's
+  development seeds (``benchmarks/tune_generated.py``).
 
 Deviation shared by all social presets: navigation steers to the social goal (the Navigator
 plans to it); the paper kept the given goal and let ``SGD`` pull toward the social goal, so its
