@@ -145,6 +145,16 @@ class LocalPlannerParams:
                 raise ConfigurationError(f"{name} must be finite and >= 0, got {value}")
 
 
+def _passing_waypoint(ctx: PlanningContext) -> bool:
+    """The cycle steers to a social waypoint the robot passes through, not a goal it stops at:
+    arrival there must not stand for the real end points (its tolerance is 0.5 m, and the real
+    poses matter to the social critics)."""
+    sg = ctx.social_goal
+    if sg is None or not getattr(sg, "is_waypoint", False):
+        return False
+    return bool(np.allclose(np.asarray(sg.pose, dtype=float)[:2], ctx.goal[:2]))
+
+
 def stop_at_goal(trajs: Trajectories, goal: FloatArray, tolerance: float) -> Trajectories:
     """Each rollout ``(N, T, 3)`` that comes within ``tolerance`` (m) of ``goal`` (xy) has
     arrived: from its first pose inside on, it stands on the goal's xy (keeping that pose's
@@ -388,7 +398,7 @@ class LocalPlanner:
         trajs = rollout(
             ctx.pose, ctx.velocity, twists, self.robot, p, dtype=np.dtype(p.rollout_dtype).type
         )
-        if p.stop_at_goal:
+        if p.stop_at_goal and not _passing_waypoint(ctx):
             trajs = stop_at_goal(trajs, ctx.goal, self._tolerances(ctx)[0])
         t2 = time.perf_counter()
         t["rollout"] = t2 - t1
