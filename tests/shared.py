@@ -47,3 +47,16 @@ def html_tables(text: str) -> list[list[list[str]]]:
         text_of = [[html.unescape(re.sub(r"<[^>]+>", "", c)) for c in r] for r in cells]
         out.append([[" ".join(c.split()) for c in r] for r in text_of])
     return out
+
+
+def crowd_data(name: str):
+    """A file of the shared crowd recordings (``../shared/data/crowds`` beside the repository);
+    skips the test when the data folder is absent."""
+    from pathlib import Path
+
+    import pytest
+
+    path = Path(__file__).resolve().parents[1] / ".." / "shared" / "data" / "crowds" / name
+    if not path.is_file():
+        pytest.skip(f"shared dataset {name} not available")
+    return path

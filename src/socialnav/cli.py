@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
-from typing import Annotated
+from typing import Annotated, Any
 
 import typer
 
@@ -15,6 +15,24 @@ app = typer.Typer(
 )
 
 ROBOT_HELP = "Robot model: pr2 (holonomic) or pioneer (differential drive)."
+
+
+def _version(value: bool) -> None:
+    if value:
+        from socialnav import __version__
+
+        typer.echo(f"socialnav {__version__}")
+        raise typer.Exit()
+
+
+@app.callback()
+def main(
+    version: Annotated[
+        bool,
+        typer.Option("--version", callback=_version, is_eager=True, help="Print the version."),
+    ] = False,
+) -> None:
+    """Socially-aware navigation with PaCcET: run scenarios, compare planners, make reports."""
 
 
 def _fail(message: str) -> None:
@@ -28,7 +46,9 @@ def _split(value: str) -> list[str]:
 
 @app.command()
 def run(
-    scenario: Annotated[str, typer.Argument(help="Built-in scenario name or path to a YAML file.")],
+    scenario: Annotated[
+        str | None, typer.Argument(help="Built-in scenario name or path to a YAML file.")
+    ] = None,
     planner: Annotated[str, typer.Option(help="Planner name (see `socialnav list`).")] = "paccet",
     robot: Annotated[str, typer.Option(help=ROBOT_HELP)] = "pr2",
     seed: Annotated[int, typer.Option(help="Seed for the scenario's jitter.")] = 0,
@@ -40,11 +60,29 @@ def run(
         "parquet"
     ),
     video: Annotated[str, typer.Option(help="none, gif or mp4 (candidate fan by score).")] = "none",
+    crowd: Annotated[
+        Path | None, typer.Option(help="A recorded crowd (obsmat, frame-id-x-y, ndjson).")
+    ] = None,
+    t0: Annotated[float, typer.Option(help="--crowd: start time in the recording (s).")] = 0.0,
+    start: Annotated[
+        tuple[float, float] | None, typer.Option(help="--crowd: robot start X Y (m).")
+    ] = None,
+    goal: Annotated[tuple[float, float] | None, typer.Option(help="--crowd: goal X Y (m).")] = None,
+    switch_distance: Annotated[
+        float | None, typer.Option(help="--crowd: people this close (m) switch to navground HL.")
+    ] = None,
 ) -> None:
-    """Run one scenario with one planner; write trajectories, diagnostics, metrics and a figure."""
+    """Run one scenario (or a recorded crowd) with one planner; write trajectories, metrics and
+    a figure."""
     from socialnav.core.errors import ConfigurationError
     from socialnav.experiments.run import run_single
 
+    if crowd is not None:
+        _run_crowd(crowd, t0, start, goal, planner, robot, out, switch_distance)
+        return
+    if scenario is None:
+        _fail("give a scenario, or --crowd FILE --t0 T --start X Y --goal X Y")
+        return
     try:
         summary = run_single(
             scenario, planner, robot, seed=seed, humans=humans, out=out, fmt=fmt, video=video
@@ -55,60 +93,76 @@ def run(
     typer.echo(json.dumps(summary, indent=1))
 
 
-@app.command()
-def compare(
-    out: Annotated[Path, typer.Option(help="Report folder.")] = Path("report"),
-    suite: Annotated[str, typer.Option(help="paper, reactive, randomized or generated.")] = "paper",
-    planners: Annotated[str, typer.Option(help="Comma-separated planner names; default all.")] = "",
-    robots: Annotated[str, typer.Option(help="Comma-separated robot models.")] = "pr2,pioneer",
-    scenarios: Annotated[str, typer.Option(help="Comma-separated scenarios; default all.")] = "",
-    seeds: Annotated[
-        str | None,
-        typer.Option(
-            help="Seeds: N (= 0:N) or A:B. Paper/randomized: N per scenario (randomized: 20). "
-            "Generated: below 10000 development, 10000 and up reporting (default 10000:10020)."
-        ),
-    ] = None,
-    families: Annotated[
-        str, typer.Option(help="Generated suite: comma-separated families; default all.")
-    ] = "",
-    jobs: Annotated[int, typer.Option(help="Parallel workers; -1 = all cores.")] = -1,
-    resume: Annotated[bool, typer.Option(help="Skip runs already in the report folder.")] = True,
+def _run_crowd(
+    data: Path,
+    t0: float,
+    start: tuple[float, float] | None,
+    goal: tuple[float, float] | None,
+    planner: str,
+    robot: str,
+    out: Path,
+    switch_distance: float | None,
 ) -> None:
-    """The main job: every scenario × planner × robot, into a Markdown/HTML report with figures."""
-    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TimeElapsedColumn
-
     from socialnav.core.errors import ConfigurationError
-    from socialnav.experiments.planners import CONTROLLERS, compared_planners
-    from socialnav.experiments.run import check_robot
-    from socialnav.experiments.suite import run_suite, suite_specs
-    from socialnav.report.build import build_report
-    from socialnav.sim.scenario import builtin_scenarios, load_scenario
+    from socialnav.experiments.crowd import run_crowd_single
 
-    if suite not in ("paper", "reactive", "randomized", "generated"):
-        _fail(f"unknown suite {suite!r}; use paper, reactive, randomized or generated")
+    if start is None or goal is None:
+        _fail("--crowd needs --start X Y and --goal X Y")
+        return
     try:
-        planner_names = _split(planners) or compared_planners()
-        for name in planner_names:
-            CONTROLLERS.get(name)
-        for name in _split(robots):
-            check_robot(name)
-        if suite == "generated":
-            specs = _generated_specs(families, planner_names, _split(robots), seeds)
-        else:
-            for name in _split(scenarios):
-                load_scenario(name)  # an unknown name fails here, not as one error row per run
-            n_seeds = None if seeds is None else len(_seed_range(seeds))
-            specs = suite_specs(
-                suite,
-                _split(scenarios) or builtin_scenarios(),
-                planner_names,
-                _split(robots),
-                n_seeds,
-            )
+        summary = run_crowd_single(
+            data, t0, start, goal, planner, robot, out=out, switch_distance=switch_distance
+        )
     except ConfigurationError as exc:
         _fail(str(exc))
         return
+    typer.echo(json.dumps(summary, indent=1))
+
+
+def _compare_crowds(
+    data: list[Path],
+    planners: list[str],
+    robots: list[str],
+    seeds: str,
+    out: Path,
+    jobs: int,
+    resume: bool,
+    switch_distance: float | None,
+) -> None:
+    """``compare --suite crowds``: every --data file × planners (+ straight_line) × robots."""
+    from socialnav.core.errors import ConfigurationError
+    from socialnav.crowds import load_recording
+    from socialnav.experiments.crowd import REPORT_SEEDS, crowd_specs, parse_seeds
+    from socialnav.report.crowd import build_crowd_report
+
+    if not data:
+        _fail("--suite crowds needs --data FILE (a recorded crowd; repeat for several)")
+    try:
+        for path in data:
+            load_recording(path)  # a bad file fails here, not as one error row per run
+        specs = crowd_specs(
+            [str(p) for p in data],
+            planners,
+            robots,
+            parse_seeds(seeds or REPORT_SEEDS),
+            switch_distance,
+        )
+    except ConfigurationError as exc:
+        _fail(str(exc))
+        return
+    rows = _run_with_progress(specs, out, jobs, resume, "crowds")
+    report = build_crowd_report(rows, out)
+    failed = sum(1 for r in rows if r.get("error"))
+    typer.echo(f"{len(rows)} runs ({failed} errors) → {report}")
+
+
+def _run_with_progress(
+    specs: list[Any], out: Path, jobs: int, resume: bool, suite: str
+) -> list[dict[str, Any]]:
+    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TimeElapsedColumn
+
+    from socialnav.experiments.suite import run_suite
+
     with Progress(
         "[progress.description]{task.description}",
         BarColumn(),
@@ -120,38 +174,111 @@ def compare(
         def advance(done: int, total: int) -> None:
             bar.update(task, completed=done, total=total)
 
-        rows = run_suite(specs, out, n_jobs=jobs, resume=resume, progress=advance)
-    if suite == "generated":
-        from socialnav.report.generated import build_generated_report
-
-        report = build_generated_report(rows, out)
-    else:
-        report = build_report(rows, out, suite=suite)
-    failed = sum(1 for r in rows if r.get("error"))
-    typer.echo(f"{len(rows)} runs ({failed} errors) → {report}")
+        return run_suite(specs, out, n_jobs=jobs, resume=resume, progress=advance)
 
 
-def _seed_range(text: str) -> range:
-    from socialnav.core.errors import ConfigurationError
-    from socialnav.experiments.suite import parse_seeds
-
-    try:
-        return parse_seeds(text)
-    except ValueError as exc:
-        raise ConfigurationError(str(exc)) from None
-
-
-def _generated_specs(
-    families: str, planners: list[str], robots: list[str], seeds: str | None
-) -> list:
-    """The generated suite's runs (``socialnav.sim.generate``)."""
+def _compare_generated(
+    families: str,
+    planners: list[str],
+    robots: list[str],
+    seeds: str | None,
+    out: Path,
+    jobs: int,
+    resume: bool,
+) -> None:
+    """``compare --suite generated``: family × planner × robot × seed (socialnav.sim.generate)."""
+    from socialnav.experiments.crowd import parse_seeds
     from socialnav.experiments.suite import generated_specs
+    from socialnav.report.generated import build_generated_report
     from socialnav.sim.generate import GENERATORS
 
     names = _split(families) or GENERATORS.names()
     for name in names:
-        GENERATORS.get(name)
-    return generated_specs(names, planners, robots, _seed_range(seeds or "10000:10020"))
+        GENERATORS.get(name)  # an unknown family fails here (ConfigurationError)
+    specs = generated_specs(names, planners, robots, parse_seeds(seeds or "10000:10020"))
+    rows = _run_with_progress(specs, out, jobs, resume, "generated")
+    report = build_generated_report(rows, out)
+    failed = sum(1 for r in rows if r.get("error"))
+    typer.echo(f"{len(rows)} runs ({failed} errors) → {report}")
+
+
+@app.command()
+def compare(
+    out: Annotated[Path, typer.Option(help="Report folder.")] = Path("report"),
+    suite: Annotated[
+        str, typer.Option(help="paper, reactive, randomized, crowds or generated.")
+    ] = "paper",
+    planners: Annotated[str, typer.Option(help="Comma-separated planner names; default all.")] = "",
+    robots: Annotated[str, typer.Option(help="Comma-separated robot models.")] = "pr2,pioneer",
+    scenarios: Annotated[str, typer.Option(help="Comma-separated scenarios; default all.")] = "",
+    seeds: Annotated[
+        str | None,
+        typer.Option(
+            help="Seeds A:B, or N for 0:N (randomized: 20; crowds: 10000:10050 reports; "
+            "generated: below 10000 development, 10000 and up reporting, default 10000:10020)."
+        ),
+    ] = None,
+    families: Annotated[
+        str, typer.Option(help="--suite generated: comma-separated families; default all.")
+    ] = "",
+    jobs: Annotated[int, typer.Option(help="Parallel workers; -1 = all cores.")] = -1,
+    resume: Annotated[bool, typer.Option(help="Skip runs already in the report folder.")] = True,
+    data: Annotated[
+        list[Path] | None, typer.Option(help="--suite crowds: a recorded crowd file (repeat).")
+    ] = None,
+    switch_distance: Annotated[
+        float | None,
+        typer.Option(help="--suite crowds: replayed people this close (m) switch to HL."),
+    ] = None,
+) -> None:
+    """The main job: every scenario × planner × robot, into a Markdown/HTML report with figures."""
+    from socialnav.core.errors import ConfigurationError
+    from socialnav.experiments.crowd import parse_seeds
+    from socialnav.experiments.planners import CONTROLLERS, compared_planners
+    from socialnav.experiments.run import check_robot
+    from socialnav.experiments.suite import suite_specs
+    from socialnav.report.build import build_report
+    from socialnav.sim.scenario import builtin_scenarios, load_scenario
+
+    if suite not in ("paper", "reactive", "randomized", "crowds", "generated"):
+        _fail(f"unknown suite {suite!r}; use paper, reactive, randomized, crowds or generated")
+    try:
+        planner_names = _split(planners) or compared_planners()
+        for name in planner_names:
+            CONTROLLERS.get(name)
+        for name in _split(robots):
+            check_robot(name)
+        if suite == "crowds":
+            _compare_crowds(
+                data or [],
+                planner_names,
+                _split(robots),
+                seeds or "",
+                out,
+                jobs,
+                resume,
+                switch_distance,
+            )
+            return
+        if suite == "generated":
+            _compare_generated(families, planner_names, _split(robots), seeds, out, jobs, resume)
+            return
+        for name in _split(scenarios):
+            load_scenario(name)  # an unknown name fails here, not as one error row per run
+        specs = suite_specs(
+            suite,
+            _split(scenarios) or builtin_scenarios(),
+            planner_names,
+            _split(robots),
+            None if seeds is None else parse_seeds(seeds),
+        )
+    except ConfigurationError as exc:
+        _fail(str(exc))
+        return
+    rows = _run_with_progress(specs, out, jobs, resume, suite)
+    report = build_report(rows, out, suite=suite)
+    failed = sum(1 for r in rows if r.get("error"))
+    typer.echo(f"{len(rows)} runs ({failed} errors) → {report}")
 
 
 @app.command()
@@ -196,6 +323,63 @@ def list_components() -> None:
         entry = CONTROLLERS.get(name)
         default = "" if entry.compared else " (not compared by default)"
         typer.echo(f"planner {name}: {entry.description}{default}")
+
+
+@app.command("export-bag")
+def export_bag(
+    run_dir: Annotated[Path, typer.Argument(help="Folder written by `socialnav run`.")],
+    fmt: Annotated[str, typer.Option("--format", help="rosbag2 storage: mcap or sqlite3.")] = (
+        "mcap"
+    ),
+    out: Annotated[Path | None, typer.Option(help="Bag folder; default RUN_DIR/bag.")] = None,
+    overwrite: Annotated[bool, typer.Option(help="Replace an existing bag folder.")] = False,
+) -> None:
+    """Export a run as a rosbag2 (map, odom frame, plans, people) for RViz, Foxglove, ros2 bag."""
+    from socialnav.experiments.storage import EPISODE_FILE, load_episode
+    from socialnav.integrations.rosbag import export_rosbag
+
+    if fmt not in ("mcap", "sqlite3"):
+        _fail(f"unknown bag format {fmt!r}; use mcap or sqlite3")
+    if not (run_dir / EPISODE_FILE).is_file():
+        _fail(f"{run_dir}: not a run folder (no {EPISODE_FILE}); write one with `socialnav run`")
+    record = load_episode(run_dir)
+    target = out if out is not None else run_dir / "bag"
+    try:
+        path = export_rosbag(record, target, storage=fmt, overwrite=overwrite)  # type: ignore[arg-type]
+    except (FileExistsError, ImportError, ValueError) as exc:
+        _fail(str(exc))
+        return
+    typer.echo(f"wrote {path}")
+
+
+# --- ROS 2 --------------------------------------------------------------------------------
+
+
+@app.command("ros2", context_settings={"allow_extra_args": True, "ignore_unknown_options": True})
+def ros2(
+    ctx: typer.Context,
+    params: Annotated[
+        Path | None, typer.Option(help="Nav2-style params file (socialnav: ros__parameters: ...).")
+    ] = None,
+) -> None:
+    """Run the socialnav ROS 2 lifecycle node; arguments after --ros-args go to ROS."""
+    import importlib.util
+
+    from socialnav.core.errors import ConfigurationError
+    from socialnav.integrations.ros2 import INSTALL_HINT
+    from socialnav.integrations.ros2.params import load_params_file
+
+    if params is not None:
+        try:
+            load_params_file(params)
+        except ConfigurationError as exc:
+            _fail(str(exc))
+    if importlib.util.find_spec("rclpy") is None:
+        _fail(INSTALL_HINT)
+    from socialnav.integrations.ros2.node import main
+
+    extra = [a for a in ctx.args if a != "--ros-args"]
+    raise typer.Exit(code=main(None if params is None else str(params), extra))
 
 
 if __name__ == "__main__":

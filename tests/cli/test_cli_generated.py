@@ -9,7 +9,9 @@ import pytest
 from typer.testing import CliRunner
 
 from socialnav.cli import app
-from socialnav.experiments.suite import generated_specs, parse_seeds
+from socialnav.core.errors import ConfigurationError
+from socialnav.experiments.crowd import parse_seeds
+from socialnav.experiments.suite import generated_specs
 
 
 def invoke(*args: str):
@@ -20,7 +22,7 @@ def test_parse_seeds():
     assert parse_seeds("5") == range(0, 5)
     assert parse_seeds("10000:10020") == range(10000, 10020)
     for bad in ("", "a", "3:1", "1:2:3", "-1:4"):
-        with pytest.raises(ValueError, match="--seeds"):
+        with pytest.raises(ConfigurationError, match="--seeds"):
             parse_seeds(bad)
 
 

@@ -34,3 +34,11 @@ def test_a_custom_family_scenario_runs_with_the_common_conditions(tmp_path):
     metrics = json.loads((tmp_path / "out" / "metrics.json").read_text())
     assert set(metrics["success_conditions"]) == {"reached_goal", "no_collision", "success"}
     assert metrics["success_conditions"]["success"] is True
+
+
+def test_version_is_defined_once_and_printed():
+    from socialnav import __version__
+
+    result = CliRunner().invoke(app, ["--version"])
+    assert result.exit_code == 0
+    assert result.stdout.strip() == f"socialnav {__version__}"

@@ -102,11 +102,13 @@ def test_topics_types_and_counts(bag: tuple[str, Path]) -> None:
     _, path = bag
     with Reader(path) as reader:
         topics = {name: (info.msgtype, info.msgcount) for name, info in reader.topics.items()}
-        assert reader.message_count == 6 * T + 2
+        # 8 per sample, 4 latched once, a plan at t = 0, 2 and 4 s
+        assert reader.message_count == 8 * T + 4 + 3
         assert reader.start_time == DEFAULT_START_TIME_NS
         assert reader.end_time == DEFAULT_START_TIME_NS + round((T - 1) * DT * 1e9) + 1
-    once = {"/walls", "/social_goal"}
-    assert topics == {t: (ty, 1 if t in once else T) for t, ty in TOPICS.items()}
+    once = {"/walls", "/social_goal", "/tf_static", "/map"}
+    counts = {t: 1 if t in once else T for t in TOPICS} | {"/plan": 3}
+    assert topics == {t: (ty, counts[t]) for t, ty in TOPICS.items()}
 
 
 def test_robot_poses_round_trip(bag: tuple[str, Path], record: EpisodeRecord) -> None:
@@ -125,12 +127,12 @@ def test_odom_tf_and_cmd_vel(bag: tuple[str, Path], record: EpisodeRecord) -> No
         ts, o = odom[k]
         assert ts == DEFAULT_START_TIME_NS + round(record.times[k] * 1e9)
         assert o.header.stamp.sec * 10**9 + o.header.stamp.nanosec == ts
-        assert (o.header.frame_id, o.child_frame_id) == ("map", "base_link")
+        assert (o.header.frame_id, o.child_frame_id) == ("odom", "base_link")
         assert o.twist.twist.linear.x == pytest.approx(record.robot_twists[k, 0], abs=1e-12)
         assert o.twist.twist.angular.z == pytest.approx(record.robot_twists[k, 2], abs=1e-12)
         (tr,) = tf[k][1].transforms
-        assert (tr.header.frame_id, tr.child_frame_id) == ("map", "base_link")
-        assert tr.transform.translation.x == pytest.approx(record.robot_poses[k, 0], abs=1e-12)
+        assert (tr.header.frame_id, tr.child_frame_id) == ("odom", "base_link")
+        assert tr.transform.translation.x == pytest.approx(o.pose.pose.position.x, abs=1e-12)
         q = tr.transform.rotation
         assert q.x**2 + q.y**2 + q.z**2 + q.w**2 == pytest.approx(1.0, abs=1e-12)
         assert cmd[k][1].angular.z == pytest.approx(record.robot_twists[k, 2], abs=1e-12)
@@ -148,7 +150,9 @@ def test_people_custom_type(bag: tuple[str, Path], record: EpisodeRecord) -> Non
         vel = np.array([[p.velocity.x, p.velocity.y] for p in msg.people])
         np.testing.assert_allclose(vel, record.people_velocities[k], rtol=0, atol=1e-12)
         assert [float(p.tags[0]) for p in msg.people] == [0.25, 0.3]
-        assert all(p.tagnames == ["radius"] for p in msg.people)
+        assert all(p.tagnames == ["radius", "yaw"] for p in msg.people)
+        # they walk -x and +y: orientation is the heading of motion
+        assert [float(p.tags[1]) for p in msg.people] == pytest.approx([np.pi, np.pi / 2])
 
 
 def test_people_bag_definition_is_self_describing(bag: tuple[str, Path]) -> None:
@@ -284,3 +288,101 @@ def test_missing_rosbags_names_the_extra(
     monkeypatch.setattr(builtins, "__import__", fake_import)
     with pytest.raises(ImportError, match=r"socialnav\[rosbag\]"):
         rb.export_rosbag(record, tmp_path / "bag")
+
+
+def yaw_of(q) -> float:
+    return float(np.arctan2(2 * (q.w * q.z + q.x * q.y), 1 - 2 * (q.y**2 + q.z**2)))
+
+
+def test_odom_frame_chain_gives_the_map_pose(bag: tuple[str, Path], record: EpisodeRecord) -> None:
+    path = bag[1]
+    ((_, static),) = messages(path, "/tf_static")
+    (tr,) = static.transforms
+    assert (tr.header.frame_id, tr.child_frame_id) == ("map", "odom")
+    origin = np.array([tr.transform.translation.x, tr.transform.translation.y, 0.0])
+    origin[2] = yaw_of(tr.transform.rotation)
+    np.testing.assert_allclose(origin[:2], record.robot_poses[0, :2], atol=1e-12)
+    for k, (_, o) in enumerate(messages(path, "/odom")):
+        p = o.pose.pose.position
+        c, s = np.cos(origin[2]), np.sin(origin[2])
+        xy = origin[:2] + np.array([c * p.x - s * p.y, s * p.x + c * p.y])
+        np.testing.assert_allclose(xy, record.robot_poses[k, :2], atol=1e-9)
+
+
+def test_map_plan_and_local_plan(bag: tuple[str, Path], record: EpisodeRecord) -> None:
+    path = bag[1]
+    ((_, grid),) = messages(path, "/map")
+    info = grid.info
+    data = np.asarray(grid.data).reshape(info.height, info.width)
+    assert set(np.unique(data)) == {0, 100}
+
+    def cell(x: float, y: float) -> int:
+        col = int((x - info.origin.position.x) // info.resolution)
+        row = int((y - info.origin.position.y) // info.resolution)
+        return int(data[row, col])
+
+    assert cell(5.0, -1.5) == 100 and cell(5.0, 1.5) == 100  # the walls
+    assert cell(4.4, 0.1) == 100  # inside the triangle
+    assert cell(2.0, 0.0) == 0
+    plans = messages(path, "/plan")
+    assert [ts for ts, _ in plans] == [DEFAULT_START_TIME_NS + s * 10**9 for s in (0, 2, 4)]
+    # at t = 4 s the synthetic robot grazes the wall (y = -1.46): no plan, an empty path
+    assert plans[2][1].poses == []
+    for (_, plan), k in zip(plans[:2], (0, 20), strict=True):
+        xy = np.array([[q.pose.position.x, q.pose.position.y] for q in plan.poses])
+        assert np.hypot(*(xy[0] - record.robot_poses[k, :2])) < 0.05
+        assert np.hypot(*(xy[-1] - record.target[:2])) < 0.05
+        assert all(cell(x, y) == 0 for x, y in xy)
+        assert plan.header.frame_id == "map"
+    local = messages(path, "/local_plan")
+    for k in (0, 30):
+        xy = np.array([[q.pose.position.x, q.pose.position.y] for q in local[k][1].poses])
+        np.testing.assert_allclose(xy[0], record.robot_poses[k, :2], atol=1e-9)
+        length = np.sum(np.hypot(*np.diff(xy, axis=0).T))
+        assert length == pytest.approx(0.4 * 1.7, rel=1e-6)  # vx 0.4 m/s for sim_time
+
+
+def test_people_poses_carry_orientation(bag: tuple[str, Path], record: EpisodeRecord) -> None:
+    poses = messages(bag[1], "/people_poses")
+    msg = poses[10][1]
+    xy = np.array([[p.position.x, p.position.y] for p in msg.poses])
+    np.testing.assert_allclose(xy, record.people_positions[10], atol=1e-12)
+    assert [yaw_of(p.orientation) for p in msg.poses] == pytest.approx([np.pi, np.pi / 2])
+    marks = messages(bag[1], "/people_markers")[10][1].markers
+    assert yaw_of(marks[1].pose.orientation) == pytest.approx(np.pi / 2)
+
+
+def test_standing_person_keeps_the_scenario_orientation() -> None:
+    from socialnav.core.scene import Person, SocialContext
+
+    record = synthetic_record()
+    record.people_velocities[:] = 0.0
+    record.context = SocialContext((Person(7, (5.0, 1.0), yaw=-1.0),))
+    yaws = rb.people_yaws(record)
+    assert np.all(yaws[:, 0] == -1.0) and np.all(yaws[:, 1] == 0.0)
+
+
+def test_export_bag_command_on_a_run_folder(tmp_path: Path) -> None:
+    from typer.testing import CliRunner
+
+    from socialnav.cli import app
+    from socialnav.experiments.storage import load_episode
+
+    run_dir = tmp_path / "run"
+    runner = CliRunner()
+    result = runner.invoke(app, ["run", "hallway_passing", "--out", str(run_dir)])
+    assert result.exit_code == 0, result.output
+    for storage in STORAGES:
+        out = tmp_path / f"bag_{storage}"
+        args = ["export-bag", str(run_dir), "--format", storage, "--out", str(out)]
+        result = runner.invoke(app, args)
+        assert result.exit_code == 0, result.output
+        record = load_episode(run_dir)
+        times, poses = read_rosbag_poses(out)
+        np.testing.assert_allclose(poses[:, :2], record.robot_poses[:, :2], atol=1e-9)
+        np.testing.assert_allclose(times, record.times, atol=1e-9)
+        assert len(messages(out, "/plan")) >= 1
+    result = runner.invoke(app, ["export-bag", str(run_dir), "--format", "rosbag"])
+    assert result.exit_code == 2 and "mcap or sqlite3" in result.output
+    result = runner.invoke(app, ["export-bag", str(tmp_path / "nothing")])
+    assert result.exit_code == 2 and "episode.json" in result.output

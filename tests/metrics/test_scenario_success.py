@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -11,6 +12,7 @@ from socialnav.core.robot import PR2
 from socialnav.core.scene import Artwork, Group, Queue
 from socialnav.metrics import METRICS, evaluate_success
 from socialnav.metrics.series import convex_overlap_depth
+from socialnav.sim.scenario import load_scenario
 
 
 def m(name, record):
@@ -80,6 +82,7 @@ def test_queue_joined_at_the_tail(make_record, seg):
         "reached_goal": True,
         "no_collision": True,
         "at_tail_slot": True,
+        "arrival_yaw": True,
         "facing_line": True,
         "no_cut_in": True,
         "success": True,
@@ -283,6 +286,8 @@ def test_hallway_personal_space_condition(make_record, seg):
 
 def test_hallway_headon_reports_but_does_not_require_personal_space(make_record, seg):
     rec = make_record(seg((0, 0), (10, 0), 100), people=[[5.0, 0.9]], scenario="hallway_headon")
+    # the scenario file says so (success: no_personal_space_intrusion: {required: false})
+    rec = dataclasses.replace(rec, success=load_scenario("hallway_headon").success_spec())
     result = evaluate_success(rec)
     assert not result["no_personal_space_intrusion"]
     assert result["success"]
@@ -297,7 +302,7 @@ def test_collision_or_late_arrival_fails_every_family(make_record, seg):
 
 
 def test_success_rejects_bad_family_or_missing_context(make_record, seg):
-    with pytest.raises(ValueError, match="unknown family"):
+    with pytest.raises(ValueError, match="unknown scenario family"):
         evaluate_success(make_record(seg((0, 0), (1, 0), 10), family="maze"))
     with pytest.raises(ValueError, match="queue"):
         evaluate_success(make_record(seg((0, 0), (1, 0), 10), family="queue"))

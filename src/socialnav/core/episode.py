@@ -9,6 +9,7 @@ import numpy as np
 
 from socialnav.core.geometry import FloatArray
 from socialnav.core.scene import SocialContext
+from socialnav.core.success import ConditionSpec
 
 
 @dataclass
@@ -22,17 +23,24 @@ class EpisodeRecord:
     People:
       ``people_ids (K,)``, ``people_positions (T, K, 2)``, ``people_velocities (T, K, 2)``,
       ``people_radii (K,)``; ``context`` holds groups, queues and artworks at the start.
+      People present for part of an episode (replayed crowds): their positions and velocities
+      are NaN at the samples where they are absent; ``people_present (T, K)`` bool is that
+      mask (derived from the positions, so it can never disagree with them). Metrics and
+      figures ignore absent samples (a distance to an absent person is ``+inf``).
     Task:
-      ``start (3,)``; ``goal (3,)`` the goal the robot was given; ``target (3,)`` the pose at which
-      success is measured (the social goal where the scenario has one, else ``goal``);
-      ``waypoint (2,) | None`` a social waypoint to pass (gallery activity); ``goal_tolerance`` (m);
-      ``time_limit`` (s); ``family`` (``hallway``, ``gallery_present``, ``gallery_activity``,
-      ``queue``, ``group``) and ``scenario`` name.
+      ``start (3,)``; ``goal (3,)`` the goal the robot was given; ``target (3,)`` the pose at
+      which success is measured (the target the controller recorded driving to: the social
+      goal where the scenario has one, else ``goal``); ``waypoint (2,) | None`` a social
+      waypoint to pass (gallery activity); ``goal_tolerance`` (m); ``time_limit`` (s);
+      ``family`` (a :data:`~socialnav.core.success.FAMILIES` name) and ``scenario`` name.
     World:
       ``walls (S, 2, 2)`` segments; ``obstacles`` polygons ``(V, 2)``.
     Outcome per sample:
       ``collision_person (T,)``, ``collision_obstacle (T,)`` booleans; ``status (T,)``
       planner status names; ``meta`` free-form (planner, robot, seed, timings).
+    Judgement:
+      ``success`` the conditions the episode is judged on (family, structures and scenario
+      overrides; :mod:`socialnav.core.success`); empty = the family's and structures' defaults.
     """
 
     dt: float
@@ -60,6 +68,7 @@ class EpisodeRecord:
     collision_obstacle: np.ndarray | None = None
     status: np.ndarray | None = None
     meta: dict[str, Any] = field(default_factory=dict)
+    success: tuple[ConditionSpec, ...] = ()
 
     def __post_init__(self) -> None:
         steps = self.times.shape[0]
@@ -86,8 +95,15 @@ class EpisodeRecord:
 
     @property
     def num_steps(self) -> int:
+        """Number of samples ``T``."""
         return int(self.times.shape[0])
 
     @property
+    def people_present(self) -> np.ndarray:
+        """``(T, K)`` bool: where each person is present (their position is finite)."""
+        return np.asarray(np.isfinite(self.people_positions).all(axis=-1), dtype=bool)
+
+    @property
     def robot_xy(self) -> FloatArray:
+        """Robot positions ``(T, 2)`` (m, world frame)."""
         return self.robot_poses[:, :2]

@@ -14,7 +14,13 @@ FloatArray = NDArray[np.float64]
 
 
 def wrap_angle(angle: ArrayLike) -> FloatArray:
-    """Wrap angles to ``[-pi, pi)``."""
+    """Wrap angles (rad, any shape) to ``[-pi, pi)``; same shape as ``angle``.
+
+    >>> float(wrap_angle(3 * np.pi / 2))
+    -1.5707963267948966
+    >>> float(wrap_angle(np.pi))  # the half-open interval: +pi maps to -pi
+    -3.141592653589793
+    """
     a = np.asarray(angle, dtype=float)
     return (a + np.pi) % (2.0 * np.pi) - np.pi
 
@@ -40,19 +46,33 @@ def as_pose(pose: ArrayLike, name: str = "pose") -> FloatArray:
 
 
 def rotation(yaw: float) -> FloatArray:
-    """2×2 rotation matrix for ``yaw``."""
+    """``(2, 2)`` rotation matrix for ``yaw`` (rad, counter-clockwise).
+
+    >>> np.round(rotation(np.pi / 2) @ [1.0, 0.0], 12).tolist()
+    [0.0, 1.0]
+    """
     c, s = np.cos(yaw), np.sin(yaw)
     return np.array([[c, -s], [s, c]])
 
 
 def body_to_world(points: ArrayLike, pose: ArrayLike) -> FloatArray:
-    """Map ``(..., 2)`` points from the body frame of ``pose`` to the world frame."""
+    """Map ``(..., 2)`` points (m) from the body frame of ``pose (3,)`` (world ``x, y, yaw``)
+    to the world frame (x forward, y left in the body frame).
+
+    >>> body_to_world([1.0, 0.0], [2.0, 3.0, np.pi / 2]).round(12).tolist()
+    [2.0, 4.0]
+    """
     x, y, yaw = np.asarray(pose, dtype=float)
     return np.asarray(points, dtype=float) @ rotation(yaw).T + np.array([x, y])
 
 
 def world_to_body(points: ArrayLike, pose: ArrayLike) -> FloatArray:
-    """Map ``(..., 2)`` world points into the body frame of ``pose``."""
+    """Map ``(..., 2)`` world points (m) into the body frame of ``pose (3,)``; the inverse of
+    :func:`body_to_world`.
+
+    >>> world_to_body([2.0, 4.0], [2.0, 3.0, np.pi / 2]).round(12).tolist()
+    [1.0, 0.0]
+    """
     x, y, yaw = np.asarray(pose, dtype=float)
     return (np.asarray(points, dtype=float) - np.array([x, y])) @ rotation(yaw)
 
@@ -60,7 +80,12 @@ def world_to_body(points: ArrayLike, pose: ArrayLike) -> FloatArray:
 def point_segment_distance(points: ArrayLike, seg_a: ArrayLike, seg_b: ArrayLike) -> FloatArray:
     """Distances from points ``(..., 2)`` to segments ``(S, 2)``–``(S, 2)``: shape ``(..., S)``.
 
-    Degenerate segments (a == b) are points.
+    Degenerate segments (a == b) are points. Units are those of the inputs (m).
+
+    >>> point_segment_distance([[0.0, 1.0], [3.0, 0.0]], [[-1.0, 0.0]], [[1.0, 0.0]]).tolist()
+    [[1.0], [2.0]]
+    >>> point_segment_distance([0.0, 1.0], [[0.0, 0.0]], [[0.0, 0.0]]).tolist()  # a point
+    [1.0]
     """
     p = np.asarray(points, dtype=float)[..., None, :]
     a = np.asarray(seg_a, dtype=float)
@@ -74,7 +99,12 @@ def point_segment_distance(points: ArrayLike, seg_a: ArrayLike, seg_b: ArrayLike
 
 
 def points_in_polygon(points: ArrayLike, polygon: ArrayLike) -> NDArray[np.bool_]:
-    """Even-odd test of ``(..., 2)`` points against a simple polygon ``(V, 2)``: shape ``(...)``."""
+    """Even-odd test of ``(..., 2)`` points against a simple polygon ``(V, 2)``: shape ``(...)``.
+
+    >>> square = [[0, 0], [2, 0], [2, 2], [0, 2]]
+    >>> points_in_polygon([[1.0, 1.0], [3.0, 1.0]], square).tolist()
+    [True, False]
+    """
     p = np.asarray(points, dtype=float)
     poly = np.asarray(polygon, dtype=float)
     x, y = p[..., 0, None], p[..., 1, None]
@@ -93,7 +123,13 @@ def polygon_edges(polygon: ArrayLike) -> tuple[FloatArray, FloatArray]:
 
 
 def signed_distance_to_polygon(points: ArrayLike, polygon: ArrayLike) -> FloatArray:
-    """Distance to the polygon boundary, negative inside (penetration depth): shape ``(...)``."""
+    """Distance (m) of ``(..., 2)`` points to the boundary of polygon ``(V, 2)``, negative inside
+    (the penetration depth): shape ``(...)``.
+
+    >>> square = [[0, 0], [2, 0], [2, 2], [0, 2]]
+    >>> signed_distance_to_polygon([[1.0, 1.0], [3.0, 1.0]], square).tolist()
+    [-1.0, 1.0]
+    """
     a, b = polygon_edges(polygon)
     d = point_segment_distance(points, a, b).min(axis=-1)
     return np.where(points_in_polygon(points, polygon), -d, d)

@@ -44,10 +44,12 @@ class RobotModel:
 
     @property
     def circumscribed_radius(self) -> float:
+        """Radius (m) of the smallest circle around the footprint, centred on the robot."""
         return float(np.linalg.norm(self._polygon, axis=1).max())
 
     @property
     def inscribed_radius(self) -> float:
+        """Radius (m) of the largest circle inside the footprint, centred on the robot."""
         a, b = polygon_edges(self._polygon)
         return float(point_segment_distance(np.zeros(2), a, b).min())
 

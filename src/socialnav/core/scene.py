@@ -7,6 +7,7 @@ It comes from a scenario file or, later, from perception; the planner only ever 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -78,28 +79,46 @@ class Artwork:
 
 
 @dataclass(frozen=True)
+class Structure:
+    """A social structure of a registered kind (``socialnav.social.structures.STRUCTURES``):
+    ``kind`` its registry name, ``params`` the kind's validated parameter model (frozen; its
+    fields are the kind's YAML keys), ``member_ids`` the people it involves."""
+
+    kind: str
+    params: Any
+    member_ids: tuple[int, ...] = ()
+
+
+@dataclass(frozen=True)
 class SocialContext:
-    """Everything social the planner may reason about, at one instant."""
+    """Everything social the planner may reason about, at one instant: ``people``, the paper's
+    ``groups``, ``queues`` and ``artworks``, and ``structures`` of any registered kind."""
 
     people: tuple[Person, ...] = ()
     groups: tuple[Group, ...] = ()
     queues: tuple[Queue, ...] = ()
     artworks: tuple[Artwork, ...] = ()
+    structures: tuple[Structure, ...] = ()
     _index: dict[int, int] = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         index = {p.id: i for i, p in enumerate(self.people)}
         if len(index) != len(self.people):
             raise InvalidInputError("person ids must be unique")
-        for g in (*self.groups, *self.queues, *self.artworks):
-            ids = g.member_ids if not isinstance(g, Artwork) else g.viewer_ids
+        members: list[tuple[str, tuple[int, ...]]] = [
+            *(("Group", g.member_ids) for g in self.groups),
+            *(("Queue", q.member_ids) for q in self.queues),
+            *(("Artwork", a.viewer_ids) for a in self.artworks),
+            *((s.kind, s.member_ids) for s in self.structures),
+        ]
+        for kind, ids in members:
             missing = [i for i in ids if i not in index]
             if missing:
-                kind = type(g).__name__
                 raise InvalidInputError(f"{kind} refers to unknown person ids {missing}")
         object.__setattr__(self, "_index", index)
 
     def person(self, person_id: int) -> Person:
+        """The person with id ``person_id`` (``KeyError`` when there is none)."""
         return self.people[self._index[person_id]]
 
     def positions(self, ids: tuple[int, ...] | None = None) -> FloatArray:
@@ -108,14 +127,17 @@ class SocialContext:
         return np.array([p.position for p in chosen], dtype=float).reshape(-1, 2)
 
     def velocities(self) -> FloatArray:
+        """``(K, 2)`` world velocities (m/s) of every person."""
         return np.array([p.velocity for p in self.people], dtype=float).reshape(-1, 2)
 
     def radii(self) -> FloatArray:
+        """``(K,)`` radii (m) of every person."""
         return np.array([p.radius for p in self.people], dtype=float)
 
     def yaws(self) -> FloatArray:
+        """``(K,)`` headings (rad, world) of every person."""
         return np.array([p.yaw for p in self.people], dtype=float)
 
     def with_people(self, people: tuple[Person, ...]) -> SocialContext:
-        """The same groups/queues/artworks with updated people (ids must still resolve)."""
-        return SocialContext(people, self.groups, self.queues, self.artworks)
+        """The same groups/queues/artworks/structures with updated people (ids must resolve)."""
+        return SocialContext(people, self.groups, self.queues, self.artworks, self.structures)

@@ -6,7 +6,7 @@ import difflib
 import json
 from collections.abc import Sequence
 from pathlib import Path
-from typing import Any
+from typing import Any, Literal
 
 import numpy as np
 from matplotlib.figure import Figure
@@ -83,8 +83,7 @@ def run_single(
     import pyarrow as pa
     import pyarrow.parquet as pq
 
-    from socialnav.metrics import compute_metrics
-    from socialnav.metrics.success import evaluate_success
+    from socialnav.metrics import measure_episode
     from socialnav.viz.topdown import plot_episode, save_figure
 
     CONTROLLERS.get(planner)
@@ -103,8 +102,9 @@ def run_single(
     columns = diagnostics_table(result.diagnostics)
     if columns["step"]:
         pq.write_table(pa.table(columns), out / "diagnostics.parquet")
-    metrics = {k: (None if np.isnan(v) else float(v)) for k, v in compute_metrics(record).items()}
-    success = {k: bool(v) for k, v in evaluate_success(record).items()}
+    measured = measure_episode(record)
+    metrics = {k: (None if np.isnan(v) else float(v)) for k, v in measured.metrics.items()}
+    success = measured.passed()
     (out / "metrics.json").write_text(
         json.dumps({**metrics, "success_conditions": success}, indent=1)
     )
@@ -116,7 +116,8 @@ def run_single(
         from socialnav.viz.animation import animate_episode
 
         frames = fan_frames(result.diagnostics)
-        animate_episode(record, frames or None, out / f"episode.{video}", fmt=video)
+        kind: Literal["gif", "mp4"] = "gif" if video == "gif" else "mp4"
+        animate_episode(record, frames or None, out / f"episode.{video}", fmt=kind)
     return {
         "scenario": record.scenario,
         "planner": planner,

@@ -20,6 +20,8 @@ import pyarrow.parquet as pq
 
 from socialnav.core.episode import EpisodeRecord
 from socialnav.core.scene import Artwork, Group, Person, Queue, SocialContext
+from socialnav.core.success import ConditionSpec
+from socialnav.social.structures import make_structure, structure_to_dict
 
 TRAJECTORY_FILE = "trajectory.parquet"
 EPISODE_FILE = "episode.json"
@@ -35,7 +37,7 @@ def trajectory_table(record: EpisodeRecord) -> pa.Table:
         "robot_vx": record.robot_twists[:, 0],
         "robot_vy": record.robot_twists[:, 1],
         "robot_wz": record.robot_twists[:, 2],
-        "status": [str(s) for s in record.status],
+        "status": [str(s) for s in np.asarray(record.status)],
         "collision_person": record.collision_person,
         "collision_obstacle": record.collision_obstacle,
     }
@@ -53,6 +55,7 @@ def _context_to_json(context: SocialContext) -> dict[str, Any]:
         "groups": [asdict(g) for g in context.groups],
         "queues": [asdict(q) for q in context.queues],
         "artworks": [asdict(a) for a in context.artworks],
+        "structures": [structure_to_dict(s) for s in context.structures],
     }
 
 
@@ -65,6 +68,10 @@ def _context_from_json(data: dict[str, Any]) -> SocialContext:
         groups=tuple(Group(**tup(g)) for g in data["groups"]),
         queues=tuple(Queue(**tup(q)) for q in data["queues"]),
         artworks=tuple(Artwork(**tup(a)) for a in data["artworks"]),
+        structures=tuple(
+            make_structure(s, f"context.structures.{i}")
+            for i, s in enumerate(data.get("structures", []))
+        ),
     )
 
 
@@ -108,6 +115,7 @@ def save_episode(record: EpisodeRecord, folder: Path, fmt: str = "parquet") -> P
         "obstacles": list(record.obstacles),
         "context": _context_to_json(record.context),
         "meta": record.meta,
+        "success": [asdict(s) for s in record.success],
         "trajectory_format": fmt,
     }
     (folder / EPISODE_FILE).write_text(json.dumps(_jsonable(static), indent=1))
@@ -157,4 +165,5 @@ def load_episode(folder: Path) -> EpisodeRecord:
         collision_obstacle=arr(col["collision_obstacle"], dtype=bool),
         status=arr(col["status"], dtype=object),
         meta=static["meta"],
+        success=tuple(ConditionSpec(**s) for s in static.get("success", [])),
     )

@@ -18,6 +18,8 @@ import numpy as np
 import pyarrow as pa
 import pyarrow.parquet as pq
 
+from socialnav.experiments.crowd import CrowdSpec
+
 RESULTS_FILE = "results.parquet"
 TABLE1_SCENARIO = "hallway_passing"
 TABLE1_SEEDS = (0, 1, 2, 3, 4)
@@ -50,22 +52,25 @@ def suite_specs(
     scenarios: Sequence[str],
     planners: Sequence[str],
     robots: Sequence[str],
-    seeds: int | None = None,
+    seeds: int | range | None = None,
 ) -> list[EpisodeSpec]:
     """The episodes of a named suite.
 
     - ``paper``: every scenario once (seed 0) and ``hallway_passing`` with seeds 0–4 (Table 1).
     - ``reactive``: the same runs with people driven by navground ``HL`` who react to the robot.
     - ``randomized``: seeded jitter of positions, speeds and group sizes; ``seeds`` (20) each.
+
+    ``seeds``: a count N (seeds ``0 … N-1``) or a ``range`` (``--seeds A:B``).
     """
     specs: list[EpisodeSpec] = []
+    chosen = range(seeds) if isinstance(seeds, int) else seeds
     for scenario in scenarios:
         if suite == "randomized":
-            run_seeds: Iterable[int] = range(seeds or 20)
+            run_seeds: Iterable[int] = chosen or range(20)
         elif Path(scenario).stem == TABLE1_SCENARIO:
-            run_seeds = TABLE1_SEEDS if seeds is None else range(seeds)
+            run_seeds = TABLE1_SEEDS if chosen is None else chosen
         else:
-            run_seeds = range(seeds or 1)
+            run_seeds = chosen or range(1)
         for planner in planners:
             for robot in robots:
                 for seed in run_seeds:
@@ -83,23 +88,6 @@ def suite_specs(
 
 
 # --- the generated suite ----------------------------------------------------------------------
-
-
-def parse_seeds(text: str) -> range:
-    """``"A:B"`` → seeds A..B-1; a bare ``"N"`` → 0..N-1. Raises ValueError on anything else."""
-    parts = text.split(":")
-    try:
-        if len(parts) == 1:
-            lo, hi = 0, int(parts[0])
-        elif len(parts) == 2:
-            lo, hi = int(parts[0]), int(parts[1])
-        else:
-            raise ValueError
-    except ValueError:
-        raise ValueError(f"--seeds: expected N or A:B, got {text!r}") from None
-    if lo < 0 or hi <= lo:
-        raise ValueError(f"--seeds: need 0 <= A < B, got {text!r}")
-    return range(lo, hi)
 
 
 def generated_specs(
@@ -121,21 +109,25 @@ def generated_specs(
 
 
 def run_spec(
-    spec: EpisodeSpec, out_dir: Path | None = None, figure: bool = False
+    spec: EpisodeSpec | CrowdSpec, out_dir: Path | None = None, figure: bool = False
 ) -> dict[str, Any]:
     """Run one episode; return its result row (metrics, success conditions, timing, error)."""
+    if isinstance(spec, CrowdSpec):  # the crowd suite (socialnav.experiments.crowd)
+        from socialnav.experiments.crowd import run_crowd_spec
+
+        return run_crowd_spec(spec, out_dir, figure)
     row: dict[str, Any] = {**asdict(spec), "run_id": spec.run_id, "error": ""}
     started = time.perf_counter()
     try:
         from socialnav.experiments.planners import run_planner_episode
-        from socialnav.metrics import compute_metrics
-        from socialnav.metrics.success import evaluate_success, success_conditions
+        from socialnav.metrics import measure_episode
 
         result = run_planner_episode(spec)
         record = result.record
-        row.update({f"metric.{k}": float(v) for k, v in compute_metrics(record).items()})
-        row.update({f"ok.{k}": bool(v) for k, v in evaluate_success(record).items()})
-        conditions = success_conditions(record)
+        measured = measure_episode(record)
+        row.update({f"metric.{k}": float(v) for k, v in measured.metrics.items()})
+        row.update({f"ok.{k}": bool(v) for k, v in measured.passed().items()})
+        conditions = measured.conditions
         row["failed_required"] = ",".join(c.name for c in conditions if c.required and not c.passed)
         row["not_required"] = "; ".join(
             f"{c.name}: {c.reason}" if c.reason else c.name for c in conditions if not c.required
@@ -171,7 +163,7 @@ def _done_ids(out_dir: Path) -> set[str]:
 
 
 def run_suite(
-    specs: Sequence[EpisodeSpec],
+    specs: Sequence[EpisodeSpec | CrowdSpec],
     out_dir: Path,
     n_jobs: int = -1,
     figures: bool = False,

@@ -8,11 +8,19 @@ registered from their ``.msg`` text.
 Topics (one message per sample unless noted; ``T`` samples, ``K`` people):
 
 ==================  ==================================  =========================================
-``/tf``             tf2_msgs/TFMessage                  ``frame_id`` → ``base_frame``
-``/odom``           nav_msgs/Odometry                   pose in ``frame_id``; body twist (below)
+``/tf_static``      tf2_msgs/TFMessage                  ``frame_id`` → ``odom_frame``, once, latched
+``/tf``             tf2_msgs/TFMessage                  ``odom_frame`` → ``base_frame``
+``/odom``           nav_msgs/Odometry                   pose in ``odom_frame``; body twist (below)
 ``/cmd_vel``        geometry_msgs/Twist                 command issued at the sample
-``/people``         people_msgs/People                  name = person id, tag ``radius`` (m)
-``/people_markers`` visualization_msgs/MarkerArray      one cylinder per person (ns ``people``)
+``/map``            nav_msgs/OccupancyGrid              walls and obstacles, once, latched
+``/plan``           nav_msgs/Path                       global plan, every ``replan_period`` s
+``/local_plan``     nav_msgs/Path                       the command's rollout over ``sim_time`` s
+``/people``         people_msgs/People                  name = person id, tags ``radius`` (m),
+                                                        ``yaw`` (rad)
+``/people_poses``   geometry_msgs/PoseArray             people with orientation (the ROS node's
+                                                        input), in person-id order
+``/people_markers`` visualization_msgs/MarkerArray      one cylinder per person (ns ``people``),
+                                                        oriented
 ``/walls``          visualization_msgs/MarkerArray      once at the first sample, latched
 ``/social_goal``    geometry_msgs/PoseStamped           ``record.target``, once, latched
 ``/planner_status`` std_msgs/String                     planner status name
@@ -23,7 +31,19 @@ Decisions:
   nanoseconds (header stamp = bag log time), ``start_time_ns`` defaulting to
   :data:`DEFAULT_START_TIME_NS` (1 s after the Unix epoch: a zero stamp means "latest"/"unset" to
   tf2 and message filters). The start is stored in the bag's ``custom_data`` so readers can undo it.
-- There is no odometry frame: ``/odom`` and ``/tf`` give the ground-truth pose in ``frame_id``.
+- Frames as REP 105: ``frame_id`` (map) → ``odom_frame`` is the start pose (static: the
+  simulator's odometry does not drift), ``odom_frame`` → ``base_frame`` the pose since the start;
+  :func:`read_rosbag_poses` composes them back into ``frame_id``.
+- ``/map`` is the walls and obstacles rasterized at ``map_resolution`` (m/cell) over their bounds
+  and the robot's and people's positions plus 1 m (trinary: 0 free, 100 occupied).
+- ``/plan`` is the global planner (:func:`~socialnav.planner.global_planner.plan_path`, navfn
+  costs) rerun on that map, inflated for the robot's inscribed radius, from the recorded pose to
+  ``record.target`` every ``replan_period`` s: the plan a Nav2 global planner makes there (people
+  are not in it; the planners that add a personal-space cost plan around them too). An empty
+  path when no plan exists. ``/local_plan`` is the recorded command rolled out for ``sim_time``
+  s from the pose (DWB publishes the chosen trajectory the same way).
+- People's orientation (``yaw``): the heading of their velocity while they move faster than
+  0.05 m/s, else the last one, starting from the scenario's ``yaw`` (the record's context).
 - ``/odom`` twist is ``record.robot_twists[k]``, the body twist held over ``[t_k, t_k + dt)``
   (the simulator tracks commands exactly), so it equals ``/cmd_vel`` at the same stamp.
 - Latched topics (``/walls``, ``/social_goal``) are offered with TRANSIENT_LOCAL durability so
@@ -43,7 +63,14 @@ import numpy as np
 import yaml
 
 from socialnav.core.episode import EpisodeRecord
-from socialnav.core.geometry import FloatArray
+from socialnav.core.geometry import FloatArray, point_segment_distance, polygon_edges, wrap_angle
+from socialnav.core.robot import PR2
+from socialnav.planner.global_planner import plan_path
+from socialnav.planner.rollout import RolloutParams, rollout
+from socialnav.world.grid import GridGeometry
+from socialnav.world.inflation import inflate
+from socialnav.world.mapio import OccupancyMap
+from socialnav.world.raster import rasterize
 
 __all__ = [
     "DEFAULT_START_TIME_NS",
@@ -72,10 +99,15 @@ people_msgs/Person[] people
 """
 
 TOPICS: dict[str, str] = {
+    "/tf_static": "tf2_msgs/msg/TFMessage",
     "/tf": "tf2_msgs/msg/TFMessage",
     "/odom": "nav_msgs/msg/Odometry",
     "/cmd_vel": "geometry_msgs/msg/Twist",
+    "/map": "nav_msgs/msg/OccupancyGrid",
+    "/plan": "nav_msgs/msg/Path",
+    "/local_plan": "nav_msgs/msg/Path",
     "/people": "people_msgs/msg/People",
+    "/people_poses": "geometry_msgs/msg/PoseArray",
     "/people_markers": "visualization_msgs/msg/MarkerArray",
     "/walls": "visualization_msgs/msg/MarkerArray",
     "/social_goal": "geometry_msgs/msg/PoseStamped",
@@ -83,7 +115,8 @@ TOPICS: dict[str, str] = {
 }
 """Every topic an exported bag contains, with its message type."""
 
-_LATCHED = frozenset({"/walls", "/social_goal"})
+_LATCHED = frozenset({"/walls", "/social_goal", "/tf_static", "/map"})
+MOVING_SPEED = 0.05  # m/s: slower people keep their orientation
 _ROSBAG_VERSION = 8
 _START_KEY = "socialnav.start_time_ns"
 PERSON_HEIGHT = 1.7  # m, cylinder height of a person marker
@@ -200,6 +233,82 @@ def _prepare_path(path: Path, overwrite: bool) -> None:
     path.parent.mkdir(parents=True, exist_ok=True)
 
 
+def people_yaws(record: EpisodeRecord) -> FloatArray:
+    """``(T, K)`` people's orientation (rad): heading of motion above :data:`MOVING_SPEED`,
+    else held, starting from the context's ``yaw`` (0 for a person the context lacks)."""
+    v = np.asarray(record.people_velocities, dtype=float)
+    ids = np.asarray(record.people_ids).tolist()
+    known = {p.id: p.yaw for p in record.context.people}
+    current = np.array([float(known.get(i, 0.0)) for i in ids])
+    moving = np.hypot(v[..., 0], v[..., 1]) > MOVING_SPEED
+    heading = np.arctan2(v[..., 1], v[..., 0])
+    out = np.zeros(moving.shape)
+    for k in range(moving.shape[0]):
+        current = np.where(moving[k], heading[k], current)
+        out[k] = current
+    return out
+
+
+def relative_poses(origin: FloatArray, poses: FloatArray) -> FloatArray:
+    """``poses (T, 3)`` expressed in the frame whose pose is ``origin (3,)`` (both planar)."""
+    d = np.asarray(poses, dtype=float)[:, :2] - origin[:2]
+    c, s = math.cos(origin[2]), math.sin(origin[2])
+    return np.column_stack(
+        [c * d[:, 0] + s * d[:, 1], -s * d[:, 0] + c * d[:, 1], wrap_angle(poses[:, 2] - origin[2])]
+    )
+
+
+def _compose(frame: FloatArray, pose: FloatArray) -> FloatArray:
+    c, s = math.cos(frame[2]), math.sin(frame[2])
+    return np.array(
+        [
+            frame[0] + c * pose[0] - s * pose[1],
+            frame[1] + s * pose[0] + c * pose[1],
+            float(wrap_angle(frame[2] + pose[2])),
+        ]
+    )
+
+
+def episode_map(record: EpisodeRecord, resolution: float = 0.05) -> OccupancyMap:
+    """The walls and obstacles of ``record`` as a trinary occupancy map over their bounds and
+    every recorded position, plus 1 m."""
+    walls = np.asarray(record.walls, dtype=float).reshape(-1, 2, 2)
+    pts = np.concatenate(
+        [
+            walls.reshape(-1, 2),
+            *[np.asarray(o, dtype=float).reshape(-1, 2) for o in record.obstacles],
+            np.asarray(record.robot_poses, dtype=float)[:, :2],
+            np.asarray(record.people_positions, dtype=float).reshape(-1, 2),
+            np.asarray(record.target, dtype=float)[None, :2],
+        ]
+    )
+    lo, hi = pts.min(axis=0) - 1.0, pts.max(axis=0) + 1.0
+    shape = (math.ceil((hi[1] - lo[1]) / resolution), math.ceil((hi[0] - lo[0]) / resolution))
+    geometry = GridGeometry(shape, resolution, (float(lo[0]), float(lo[1])))
+    occupied = rasterize(
+        geometry, segments=walls, polygons=[np.asarray(o, dtype=float) for o in record.obstacles]
+    )
+    return OccupancyMap.from_masks(occupied, geometry)
+
+
+def global_plans(
+    record: EpisodeRecord, omap: OccupancyMap, replan_period: float
+) -> list[tuple[int, FloatArray]]:
+    """``(sample index, path (P, 2))`` every ``replan_period`` s: the global planner on ``omap``
+    inflated for the footprint's inscribed radius, from the recorded pose to ``record.target``
+    (``(0, 2)`` when no plan exists)."""
+    a, b = polygon_edges(np.asarray(record.robot_footprint, dtype=float))
+    inscribed = float(point_segment_distance(np.zeros(2), a, b).min())
+    costmap = inflate(omap.occupied_mask(), omap.geometry, inscribed)
+    out, last = [], -math.inf
+    for k, t in enumerate(np.asarray(record.times, dtype=float).tolist()):
+        if t - last >= replan_period - 1e-9:
+            plan = plan_path(costmap, record.robot_poses[k, :2], record.target[:2])
+            out.append((k, np.zeros((0, 2)) if plan.path is None else plan.path))
+            last = t
+    return out
+
+
 def _yaw_quaternions(yaw: FloatArray) -> FloatArray:
     """``(N, 4)`` quaternions ``(x, y, z, w)`` of rotations by ``yaw (N,)`` about +z."""
     half = 0.5 * np.asarray(yaw, dtype=float)
@@ -240,6 +349,46 @@ class _Messages:
         return self.t["geometry_msgs/msg/Twist"](
             linear=self.vector3(cmd[0], cmd[1], 0.0), angular=self.vector3(0.0, 0.0, cmd[2])
         )
+
+    def transform(self, header: Any, child: str, pose: FloatArray) -> Any:
+        q = _yaw_quaternions(np.asarray(pose[2:3], dtype=float))[0]
+        return self.t["geometry_msgs/msg/TransformStamped"](
+            header=header,
+            child_frame_id=child,
+            transform=self.t["geometry_msgs/msg/Transform"](
+                translation=self.vector3(pose[0], pose[1], 0.0), rotation=self.quaternion(q)
+            ),
+        )
+
+    def path(self, header: Any, xy: FloatArray, yaw: FloatArray | None = None) -> Any:
+        """``nav_msgs/Path`` through ``xy (P, 2)``; orientation ``yaw (P,)`` or along the path."""
+        xy = np.asarray(xy, dtype=float).reshape(-1, 2)
+        if yaw is None:
+            d = np.diff(xy, axis=0)
+            yaw = np.arctan2(d[:, 1], d[:, 0]) if len(d) else np.zeros(len(xy))
+            if len(d):
+                yaw = np.append(yaw, yaw[-1])
+        quats = _yaw_quaternions(np.asarray(yaw, dtype=float))
+        stamped = self.t["geometry_msgs/msg/PoseStamped"]
+        return self.t["nav_msgs/msg/Path"](
+            header=header,
+            poses=[
+                stamped(header=header, pose=self.pose(x, y, q))
+                for (x, y), q in zip(xy, quats, strict=True)
+            ],
+        )
+
+    def occupancy_grid(self, header: Any, omap: OccupancyMap) -> Any:
+        g = omap.geometry
+        info = self.t["nav_msgs/msg/MapMetaData"](
+            map_load_time=header.stamp,
+            resolution=float(g.resolution),
+            width=int(g.shape[1]),
+            height=int(g.shape[0]),
+            origin=self.pose(g.origin[0], g.origin[1], np.array([0.0, 0.0, 0.0, 1.0])),
+        )
+        data = omap.to_ros_data().reshape(-1).astype(np.int8)
+        return self.t["nav_msgs/msg/OccupancyGrid"](header=header, info=info, data=data)
 
     def color(self, r: float, g: float, b: float, a: float) -> Any:
         return self.t["std_msgs/msg/ColorRGBA"](r=r, g=g, b=b, a=a)
@@ -290,8 +439,12 @@ def export_rosbag(
     frame_id: str = "map",
     *,
     base_frame: str = "base_link",
+    odom_frame: str = "odom",
     overwrite: bool = False,
     start_time_ns: int = DEFAULT_START_TIME_NS,
+    map_resolution: float = 0.05,
+    replan_period: float = 2.0,
+    sim_time: float = 1.7,
 ) -> Path:
     """Write ``record`` as a rosbag2 folder at ``path`` and return ``path``.
 
@@ -299,18 +452,35 @@ def export_rosbag(
     ``.db3`` file); missing parents are created. An existing ``path`` raises
     :class:`FileExistsError` unless ``overwrite`` is true, in which case an existing rosbag2
     folder is replaced (anything else is refused). Topics, stamps and frames: see the module
-    docstring. Deterministic: the same record gives the same messages and stamps.
+    docstring; ``map_resolution`` (m/cell), ``replan_period`` (s) and ``sim_time`` (s) shape
+    ``/map``, ``/plan`` and ``/local_plan``. Deterministic: the same record gives the same
+    messages and stamps.
     """
     rb = _rosbags()
     path = Path(path)
     stamps = _validate(record, storage, frame_id, base_frame, start_time_ns)
+    if odom_frame in ("", frame_id, base_frame):
+        raise ValueError(f"odom_frame {odom_frame!r} must be non-empty and distinct")
+    for name, value in (
+        ("map_resolution", map_resolution),
+        ("replan_period", replan_period),
+        ("sim_time", sim_time),
+    ):
+        if not (math.isfinite(value) and value > 0):
+            raise ValueError(f"{name} must be positive, got {value}")
     _prepare_path(path, overwrite)
 
     store = make_typestore()
     m = _Messages(store)
     poses = np.asarray(record.robot_poses, dtype=float)
     twists = np.asarray(record.robot_twists, dtype=float)
-    quats = _yaw_quaternions(poses[:, 2])
+    odom_origin = poses[0].copy()
+    odom_poses = relative_poses(odom_origin, poses)
+    quats = _yaw_quaternions(odom_poses[:, 2])
+    omap = episode_map(record, map_resolution)
+    plans = dict(global_plans(record, omap, replan_period))
+    rollout_params = RolloutParams(sim_time=sim_time)
+    yaws = people_yaws(record)
     people_xy = np.asarray(record.people_positions, dtype=float)
     people_v = np.asarray(record.people_velocities, dtype=float)
     radii = np.asarray(record.people_radii, dtype=float)
@@ -389,6 +559,12 @@ def export_rosbag(
                 )
             )
         write("/walls", t0, t["visualization_msgs/msg/MarkerArray"](markers=wall_markers))
+        write(
+            "/tf_static",
+            t0,
+            t["tf2_msgs/msg/TFMessage"](transforms=[m.transform(h0, odom_frame, odom_origin)]),
+        )
+        write("/map", t0, m.occupancy_grid(h0, omap))
         target = np.asarray(record.target, dtype=float)
         write(
             "/social_goal",
@@ -400,26 +576,20 @@ def export_rosbag(
 
         for k, ns in enumerate(stamps.tolist()):
             header = m.header(ns, frame_id)
-            x, y = poses[k, 0], poses[k, 1]
-            transform = t["geometry_msgs/msg/Transform"](
-                translation=m.vector3(x, y, 0.0), rotation=m.quaternion(quats[k])
-            )
+            odom_header = m.header(ns, odom_frame)
+            x, y = odom_poses[k, 0], odom_poses[k, 1]
             write(
                 "/tf",
                 ns,
                 t["tf2_msgs/msg/TFMessage"](
-                    transforms=[
-                        t["geometry_msgs/msg/TransformStamped"](
-                            header=header, child_frame_id=base_frame, transform=transform
-                        )
-                    ]
+                    transforms=[m.transform(odom_header, base_frame, odom_poses[k])]
                 ),
             )
             write(
                 "/odom",
                 ns,
                 t["nav_msgs/msg/Odometry"](
-                    header=header,
+                    header=odom_header,
                     child_frame_id=base_frame,
                     pose=t["geometry_msgs/msg/PoseWithCovariance"](
                         pose=m.pose(x, y, quats[k]), covariance=zero_cov
@@ -430,6 +600,12 @@ def export_rosbag(
                 ),
             )
             write("/cmd_vel", ns, m.twist(twists[k]))
+            if k in plans:
+                write("/plan", ns, m.path(header, plans[k]))
+            # DWA rollout of the command held for sim_time (the robot model is not used by it)
+            local = rollout(poses[k], twists[k], twists[k : k + 1], PR2, rollout_params).poses[0]
+            write("/local_plan", ns, m.path(header, local[:, :2], local[:, 2]))
+            people_q = _yaw_quaternions(yaws[k])
             write(
                 "/people",
                 ns,
@@ -441,9 +617,20 @@ def export_rosbag(
                             position=m.point(*people_xy[k, j]),
                             velocity=m.point(*people_v[k, j]),
                             reliability=1.0,
-                            tagnames=["radius"],
-                            tags=[repr(float(radii[j]))],
+                            tagnames=["radius", "yaw"],
+                            tags=[repr(float(radii[j])), repr(float(yaws[k, j]))],
                         )
+                        for j in range(len(ids))
+                    ],
+                ),
+            )
+            write(
+                "/people_poses",
+                ns,
+                t["geometry_msgs/msg/PoseArray"](
+                    header=header,
+                    poses=[
+                        m.pose(people_xy[k, j, 0], people_xy[k, j, 1], people_q[j])
                         for j in range(len(ids))
                     ],
                 ),
@@ -459,8 +646,9 @@ def export_rosbag(
                             marker_ids[j],
                             "CYLINDER",
                             m.pose(
-                                *people_xy[k, j],
-                                np.array([0.0, 0.0, 0.0, 1.0]),
+                                people_xy[k, j, 0],
+                                people_xy[k, j, 1],
+                                people_q[j],
                                 z=0.5 * PERSON_HEIGHT,
                             ),
                             m.vector3(2 * radii[j], 2 * radii[j], PERSON_HEIGHT),
@@ -475,7 +663,9 @@ def export_rosbag(
 
 
 def read_rosbag_poses(path: Path | str) -> tuple[FloatArray, FloatArray]:
-    """Robot poses from the ``/odom`` topic of a rosbag2 folder.
+    """Robot poses from the ``/odom`` topic of a rosbag2 folder, in the frame above the
+    odometry frame in ``/tf_static`` (the map, for bags of :func:`export_rosbag`; the odometry
+    frame itself when the bag has no such transform).
 
     Returns ``times (T,)`` in seconds — relative to the export's ``start_time_ns`` when the bag
     was written by :func:`export_rosbag`, else absolute header stamps — and ``poses (T, 3)``
@@ -491,7 +681,13 @@ def read_rosbag_poses(path: Path | str) -> tuple[FloatArray, FloatArray]:
     store = make_typestore()
     stamps: list[int] = []
     rows: list[tuple[float, float, float]] = []
+    parents: dict[str, FloatArray] = {}
     with rb.Reader(path) as reader:
+        static = [c for c in reader.connections if c.topic == "/tf_static"]
+        for conn, _, raw in reader.messages(connections=static):
+            for tr in store.deserialize_cdr(raw, conn.msgtype).transforms:
+                v, q = tr.transform.translation, tr.transform.rotation
+                parents[tr.child_frame_id] = np.array([v.x, v.y, _yaw(q)])
         conns = [c for c in reader.connections if c.topic == "/odom"]
         if not conns:
             raise ValueError(f"{path} has no /odom topic")
@@ -500,7 +696,12 @@ def read_rosbag_poses(path: Path | str) -> tuple[FloatArray, FloatArray]:
             stamp = msg.header.stamp
             stamps.append(stamp.sec * 1_000_000_000 + stamp.nanosec)
             p, q = msg.pose.pose.position, msg.pose.pose.orientation
-            yaw = math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
-            rows.append((p.x, p.y, yaw))
+            pose = np.array([p.x, p.y, _yaw(q)])
+            frame = parents.get(msg.header.frame_id)
+            rows.append(tuple(pose if frame is None else _compose(frame, pose)))
     times = (np.asarray(stamps, dtype=np.int64) - start_ns) / 1e9
     return times, np.asarray(rows, dtype=float).reshape(-1, 3)
+
+
+def _yaw(q: Any) -> float:
+    return math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))

@@ -59,6 +59,7 @@ class Metric:
         object.__setattr__(self, "doc", doc)
 
     def __call__(self, record: EpisodeRecord) -> float:
+        """The metric's value on ``record`` (its unit; NaN when undefined)."""
         validate_record(record)
         return float(self.fn(record))
 
@@ -87,8 +88,8 @@ def validate_record(record: EpisodeRecord) -> None:
     arrays = {
         "times": record.times,
         "robot_poses": record.robot_poses,
-        "people_positions": record.people_positions,
-        "people_velocities": record.people_velocities,
+        "people_positions": record.people_positions[record.people_present],
+        "people_velocities": record.people_velocities[record.people_present],
         "people_radii": record.people_radii,
         "start": record.start,
         "goal": record.goal,
@@ -97,7 +98,8 @@ def validate_record(record: EpisodeRecord) -> None:
     }
     for what, arr in arrays.items():
         if not np.all(np.isfinite(np.asarray(arr, dtype=float))):
-            raise InvalidInputError(f"episode record {what} contains NaN or infinite values")
+            where = " where the person is present" if what.startswith("people_") else ""
+            raise InvalidInputError(f"episode record {what} contains NaN or infinite values{where}")
     for what, arr in (("start", record.start), ("goal", record.goal), ("target", record.target)):
         if np.shape(arr) != (3,):
             raise InvalidInputError(f"episode record {what} must be (x, y, yaw)")

@@ -11,16 +11,15 @@ from __future__ import annotations
 import numpy as np
 
 from socialnav.core.episode import EpisodeRecord
-from socialnav.core.geometry import signed_distance_to_polygon, wrap_angle
+from socialnav.core.geometry import wrap_angle
 from socialnav.metrics.base import Direction, MetricFn, metric
 from socialnav.metrics.series import (
     closest_distance,
     closest_person,
-    convex_footprint,
+    footprint_gaps,
     person_distances,
     person_headings,
     robot_velocity,
-    to_body,
 )
 from socialnav.social.proxemics import INTIMATE, PERSONAL, SOCIAL
 
@@ -57,9 +56,7 @@ def min_distance_footprint(record: EpisodeRecord) -> float:
     negative on contact."""
     if not _has_people(record):
         return NAN
-    body = to_body(record.people_positions, record.robot_poses)  # (T, K, 2)
-    sd = signed_distance_to_polygon(body, convex_footprint(record))
-    return float((sd - record.people_radii[None, :]).min())
+    return float(footprint_gaps(record).min())
 
 
 def _zone_share(lo: float, hi: float, zone: str) -> MetricFn:

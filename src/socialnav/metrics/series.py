@@ -15,8 +15,20 @@ from socialnav.core.geometry import FloatArray, signed_distance_to_polygon
 
 
 def person_distances(record: EpisodeRecord) -> FloatArray:
-    """Centre-to-centre robot–person distances ``(T, K)`` in metres."""
-    return np.linalg.norm(record.people_positions - record.robot_xy[:, None, :], axis=-1)
+    """Centre-to-centre robot–person distances ``(T, K)`` in metres; ``+inf`` where a person is
+    absent (``record.people_present``)."""
+    d = np.linalg.norm(record.people_positions - record.robot_xy[:, None, :], axis=-1)
+    return np.where(record.people_present, d, np.inf)
+
+
+def footprint_gaps(record: EpisodeRecord) -> FloatArray:
+    """Body-to-body gaps ``(T, K)`` (m): ``sd(h_{k,t}, footprint_t) - r_k`` with ``sd`` the signed
+    distance from the person's centre to the robot's convex footprint (negative inside);
+    negative on contact, ``+inf`` where a person is absent."""
+    present = record.people_present
+    body = to_body(np.where(present[..., None], record.people_positions, 0.0), record.robot_poses)
+    sd = signed_distance_to_polygon(body, convex_footprint(record))
+    return np.where(present, sd - record.people_radii[None, :], np.inf)
 
 
 def closest_distance(record: EpisodeRecord) -> FloatArray:

@@ -42,6 +42,7 @@ def success(record: EpisodeRecord) -> float:
 def collisions_person(record: EpisodeRecord) -> float:
     """Number of collision onsets with people: False→True transitions of
     ``record.collision_person`` (a record starting in collision counts one)."""
+    assert record.collision_person is not None  # filled by EpisodeRecord.__post_init__
     return float(_onsets(record.collision_person))
 
 
@@ -49,6 +50,7 @@ def collisions_person(record: EpisodeRecord) -> float:
 def collisions_obstacle(record: EpisodeRecord) -> float:
     """Number of collision onsets with walls and obstacles: False→True transitions of
     ``record.collision_obstacle`` (a record starting in collision counts one)."""
+    assert record.collision_obstacle is not None  # filled by EpisodeRecord.__post_init__
     return float(_onsets(record.collision_obstacle))
 
 

@@ -135,7 +135,9 @@ class ParetoArchive:
         self._points = self._points[keep]
 
     # ------------------------------------------------------------------ bounds
-    def utopia(self, delta: float = 0.001, mode: Literal["absolute", "relative"] = "absolute"):
+    def utopia(
+        self, delta: float = 0.001, mode: Literal["absolute", "relative"] = "absolute"
+    ) -> np.ndarray:
         """``(m,)`` utopia ``min_a a_j - delta_j``; relative mode: ``delta_j = delta * range_j``
         (range over the archive; absolute ``delta`` where that range is zero)."""
         A = self._require()

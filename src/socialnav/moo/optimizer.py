@@ -279,6 +279,7 @@ class PaccetEvolution:
         return np.asarray(self.archive.points, dtype=float)[self._found_mask()]
 
     def result(self) -> PaccetEvolutionResult:
+        """The final archive and population as a :class:`PaccetEvolutionResult`."""
         if self.X is None or self.F is None:
             raise RuntimeError("no generation has been told yet")
         return PaccetEvolutionResult(
@@ -317,6 +318,7 @@ class PaccetEvolution:
         if spec == "equal":
             self._scalarize = EqualWeight()
         elif spec == "target":
+            assert self._target is not None  # checked with the configuration
             self._scalarize = L1Target(self._target)
         else:
             self._scalarize = spec  # type: ignore[assignment]
@@ -466,7 +468,7 @@ def _build_pymoo_algorithm() -> type:
                 pop_size, n_eliminate, mutation_scale, p_best, archive_threshold, archive_buffer
             )
             self.pop_size = pop_size
-            self._options = {
+            self._options: dict[str, Any] = {
                 "pop_size": pop_size,
                 "n_eliminate": n_eliminate,
                 "mutation_scale": mutation_scale,

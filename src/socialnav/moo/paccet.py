@@ -163,7 +163,9 @@ def cap_sentinels(F: np.ndarray, sentinel: float | None, *others: np.ndarray) ->
     return [np.where(a >= sentinel, cap, a) for a in arrays]
 
 
-def _bounds(F: np.ndarray, A: np.ndarray, options: PaccetOptions):
+def _bounds(
+    F: np.ndarray, A: np.ndarray, options: PaccetOptions
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """lo, hi (archive min/max), per-objective delta d, kept mask; all (m,)."""
     lo = A.min(axis=0)
     hi = A.max(axis=0)
@@ -295,7 +297,7 @@ def _parity_scale(x: np.ndarray, s_star: np.ndarray, options: PaccetOptions) -> 
     return v_hp / v_b
 
 
-def _bisect(crossing: np.ndarray, upper: float, tol: float, *, hit_moves_upper: bool):
+def _bisect(crossing: np.ndarray, upper: float, tol: float, *, hit_moves_upper: bool) -> np.ndarray:
     lo = np.zeros_like(crossing)
     hi = np.full_like(crossing, upper)
     for _ in range(_bisect_steps(upper, tol)):
@@ -429,6 +431,7 @@ class PaccetTransform:
 
     @property
     def archive(self) -> ParetoArchive:
+        """The persistent :class:`ParetoArchive` (objective vectors offered with ``tell``)."""
         return self._archive
 
     def reset(self) -> None:

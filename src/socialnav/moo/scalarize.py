@@ -37,6 +37,7 @@ class Scalarization:
     name: str = "scalarization"
 
     def __call__(self, T: np.ndarray) -> np.ndarray:  # pragma: no cover - interface
+        """Fitness ``(n,)`` of PaCcET coordinates ``T (n, m)``; lower is better."""
         raise NotImplementedError
 
 
@@ -46,6 +47,7 @@ class EqualWeight(Scalarization):
     name = "equal_weight"
 
     def __call__(self, T: np.ndarray) -> np.ndarray:
+        """Fitness ``(n,)`` of PaCcET coordinates ``T (n, m)``; lower is better."""
         return _as_matrix(T).sum(axis=1)
 
     def __repr__(self) -> str:
@@ -61,6 +63,7 @@ class Weighted(Scalarization):
         self.weights = _as_vector(weights, "weights")
 
     def __call__(self, T: np.ndarray) -> np.ndarray:
+        """Fitness ``(n,)`` of PaCcET coordinates ``T (n, m)``; lower is better."""
         T = _as_matrix(T)
         if T.shape[1] != self.weights.size:
             raise ValueError(f"{self.weights.size} weights for {T.shape[1]} objectives")
@@ -79,6 +82,7 @@ class L1Target(Scalarization):
         self.target = _as_vector(target, "target")
 
     def __call__(self, T: np.ndarray) -> np.ndarray:
+        """Fitness ``(n,)`` of PaCcET coordinates ``T (n, m)``; lower is better."""
         T = _as_matrix(T)
         if T.shape[1] != self.target.size:
             raise ValueError(f"target has {self.target.size} entries for {T.shape[1]} objectives")

@@ -73,6 +73,7 @@ class WeightedSum:
         self.weights = w
 
     def select(self, F: np.ndarray, legal: np.ndarray) -> Selection:
+        """The chosen row of ``F (N, m)`` among ``legal (N,)`` (see :class:`SelectionStrategy`)."""
         F, ok = _usable(F, legal)
         if F.shape[1] != self.weights.size:
             raise ValueError(f"{self.weights.size} weights for {F.shape[1]} objectives")
@@ -102,6 +103,7 @@ class PaccetSelection:
         self.options = options or PaccetOptions()
 
     def select(self, F: np.ndarray, legal: np.ndarray) -> Selection:
+        """The chosen row of ``F (N, m)`` among ``legal (N,)`` (see :class:`SelectionStrategy`)."""
         F, ok = _usable(F, legal)
         n, m = F.shape
         fitness = np.full(n, np.inf)

@@ -50,6 +50,8 @@ from socialnav.planner.sampling import sample_twists, validate_sampling
 
 
 class PlannerStatus(StrEnum):
+    """What a control cycle ended in; every status comes with a safe command."""
+
     OK = "OK"
     GOAL_REACHED = "GOAL_REACHED"
     ROTATING_TO_GOAL = "ROTATING_TO_GOAL"
@@ -208,6 +210,7 @@ class OscillationGuard:
         self.reset()
 
     def reset(self) -> None:
+        """Forget the per-episode state."""
         self.seen = np.zeros((3, 2), dtype=bool)  # axis × (positive, negative) seen
         self.only = np.zeros(3, dtype=np.int8)  # +1 positive only, -1 negative only, 0 free
         self.anchor: FloatArray | None = None
@@ -223,6 +226,7 @@ class OscillationGuard:
         return mask
 
     def update(self, pose: FloatArray, cmd: FloatArray, min_vel_trans: float) -> None:
+        """Record the executed ``cmd (3,)`` at ``pose (3,)``; lock an axis after a reversal."""
         flagged = False
         axes = [0, 1]
         if abs(cmd[0]) <= min_vel_trans and abs(cmd[1]) <= min_vel_trans:
@@ -294,6 +298,7 @@ class LocalPlanner:
         self.reset()
 
     def reset(self) -> None:
+        """Forget the per-episode state."""
         self._latched = False
         self._rotating = False
         self._goal: FloatArray | None = None

@@ -92,6 +92,7 @@ class Navigator:
         self.reset()
 
     def reset(self) -> None:
+        """Forget the plan, latches and passed waypoints (a new episode)."""
         self.local_planner.reset()
         self._path: FloatArray | None = None
         self._path_target: FloatArray | None = None
@@ -103,12 +104,19 @@ class Navigator:
     def step(
         self, time: float, pose: ArrayLike, velocity: ArrayLike, social: SocialContext
     ) -> PlannerResult:
+        """The body twist for ``pose (3,)``, ``velocity (3,)`` at ``time`` (s); never raises."""
         try:
             return self._step(float(time), pose, velocity, social)
         except Exception as exc:  # the control loop must survive anything
             return PlannerResult(
                 np.zeros(3), PlannerStatus.INVALID_INPUT, None, f"{type(exc).__name__}: {exc}"
             )
+
+    @property
+    def global_path(self) -> FloatArray | None:
+        """The global plan ``(P, 2)`` (m, world frame) the last ``step`` followed, pruned behind
+        the robot; ``None`` before the first plan or when planning failed (ROS ``/plan``)."""
+        return self._path
 
     # ---- internals ------------------------------------------------------------------------
     def _step(

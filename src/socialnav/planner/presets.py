@@ -52,7 +52,7 @@ from socialnav.planner.local_planner import (
     LocalPlannerParams,
     traditional_objectives,
 )
-from socialnav.planner.navigator import Navigator
+from socialnav.planner.navigator import CostmapLayer, Navigator
 from socialnav.planner.objectives import Objective
 from socialnav.planner.recovery import RecoveringPlanner
 from socialnav.social.goals import SocialGoal
@@ -92,13 +92,20 @@ PRESETS: Registry[PlannerPreset] = Registry("planner preset")
 
 
 def has_social_goal(social: SocialContext) -> bool:
-    """Scenes whose structure yields a social goal (queue, group, artwork with a viewer)."""
-    return bool(social.queues or social.groups or any(a.viewer_ids for a in social.artworks))
+    """Scenes whose structure may yield a social goal (queue, group, artwork with a viewer, a
+    structure of a registered kind)."""
+    return bool(
+        social.queues
+        or social.groups
+        or social.structures
+        or any(a.viewer_ids for a in social.artworks)
+    )
 
 
 def navigation_only(
     social: SocialContext, social_goal: bool, params: LocalPlannerParams
 ) -> list[tuple[Objective, float]]:
+    """The single navigation objective (the traditional planner)."""
     return [(traditional_objectives(params)[0], 1.0)]
 
 
@@ -128,19 +135,21 @@ def recommended_objectives(
     is about get the interaction's own distance in ID (``InterpersonalCritic``)."""
     out = [(traditional_objectives(params)[0], PAPER_WEIGHTS["navigation"])]
     if social.people:
-        critic = InterpersonalCritic(evaluation="max_over_time", partner_distance=partner_distance)
-        out.append((Objective("ID", ((critic, 1.0),)), PAPER_WEIGHTS["ID"]))
+        interpersonal = InterpersonalCritic(
+            evaluation="max_over_time", partner_distance=partner_distance
+        )
+        out.append((Objective("ID", ((interpersonal, 1.0),)), PAPER_WEIGHTS["ID"]))
     if social.groups:
-        critic = GroupCritic(evaluation="max_over_time", illegal_inside=True)
-        out.append((Objective("GD", ((critic, 1.0),)), PAPER_WEIGHTS["ID"]))
+        group = GroupCritic(evaluation="max_over_time", illegal_inside=True)
+        out.append((Objective("GD", ((group, 1.0),)), PAPER_WEIGHTS["ID"]))
     if social_goal:
         # SGD only within 2 m of the social goal: farther away, navigation (which steers to the
         # social goal around people) leads and exp(SGD) cannot pull the robot through a group.
-        critic = SocialGoalCritic(relative=True, active_within=SGD_ACTIVE_WITHIN)
-        out.append((Objective("SGD", ((critic, 1.0),)), PAPER_WEIGHTS["SGD"]))
+        sgd = SocialGoalCritic(relative=True, active_within=SGD_ACTIVE_WITHIN)
+        out.append((Objective("SGD", ((sgd, 1.0),)), PAPER_WEIGHTS["SGD"]))
     if any(a.viewer_ids for a in social.artworks):
-        critic = ActivitySpaceCritic(measure="max_depth")
-        out.append((Objective("AS", ((critic, 1.0),)), PAPER_WEIGHTS["AS"]))
+        activity = ActivitySpaceCritic(measure="max_depth")
+        out.append((Objective("AS", ((activity, 1.0),)), PAPER_WEIGHTS["AS"]))
     return out
 
 
@@ -159,6 +168,7 @@ RECOMMENDED_PARAMS = LocalPlannerParams(xy_goal_tolerance=0.07, stop_at_goal=Tru
 
 
 def paper_selection(weights: list[float]) -> SelectionStrategy:
+    """PaCcET with the reference code's weights and bisections."""
     return PaccetSelection(Weighted(weights), PaccetOptions.reference())
 
 
@@ -177,14 +187,17 @@ def recommended_target(m: int) -> np.ndarray:
 
 
 def recommended_selection(weights: list[float]) -> SelectionStrategy:
+    """PaCcET with the L1 target on the simplex (navigation share 0.7)."""
     return PaccetSelection(L1Target(recommended_target(len(weights))), PaccetOptions())
 
 
 def weighted_sum(weights: list[float]) -> SelectionStrategy:
+    """A weighted sum of the objectives with ``weights``."""
     return WeightedSum(weights)
 
 
 def single_weight(weights: list[float]) -> SelectionStrategy:
+    """A weighted sum over one objective: the ROS planner."""
     return WeightedSum([1.0])
 
 
@@ -260,6 +273,7 @@ class StickySocialGoal:
     def __call__(
         self, social: SocialContext, given_goal: np.ndarray, pose: np.ndarray
     ) -> SocialGoal | None:
+        """The social goal for ``given_goal (3,)`` seen from ``pose (3,)``, or None."""
         from socialnav.social.resolve import resolve_social_goal
 
         positions = social.positions()
@@ -303,16 +317,18 @@ def build_navigator(
     """The stack of preset ``name``: global plan, local planner with recoveries, social goal."""
     preset = PRESETS.get(name)
     local = RecoveringPlanner(build_local_planner(name, robot, social, params))
-    layer = None
+    layer: CostmapLayer | None = None
     if preset.proxemic_layer:
         from socialnav.world.costmap import combine_max
         from socialnav.world.proxemic_layer import proxemic_costs
 
-        def layer(local_costmap: Costmap, people: SocialContext) -> Costmap:
+        def proxemic(local_costmap: Costmap, people: SocialContext) -> Costmap:
             costs = proxemic_costs(local_costmap.geometry, people.positions(), people.velocities())
             return combine_max(local_costmap, costs)
 
-    global_layer = personal_space_layer if preset.social_global_path else None
+        layer = proxemic
+
+    global_layer: CostmapLayer | None = personal_space_layer if preset.social_global_path else None
     if preset.proxemic_layer:
         global_layer = layer  # a ROS user adds the social layer to both costmaps
     return Navigator(
@@ -339,6 +355,7 @@ OSPACE_COST = 220
 
 
 def personal_space_layer(costmap: Costmap, social: SocialContext) -> Costmap:
+    """``costmap`` with a Gaussian personal-space cost per person and o-space costs."""
     from socialnav.social.spaces import o_space
     from socialnav.world.costmap import combine_max
     from socialnav.world.proxemic_layer import proxemic_costs
@@ -346,7 +363,12 @@ def personal_space_layer(costmap: Costmap, social: SocialContext) -> Costmap:
     if not social.people:
         return costmap
     costs = proxemic_costs(
-        costmap.geometry, social.positions(), social.velocities(), **PERSONAL_SPACE_LAYER
+        costmap.geometry,
+        social.positions(),
+        social.velocities(),
+        amplitude=PERSONAL_SPACE_LAYER["amplitude"],
+        variance=PERSONAL_SPACE_LAYER["variance"],
+        cutoff=PERSONAL_SPACE_LAYER["cutoff"],
     )
     if social.groups:
         xs, ys = costmap.geometry.cell_centers()

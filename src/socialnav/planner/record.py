@@ -49,10 +49,12 @@ class EvaluationRecord:
 
     @property
     def num_samples(self) -> int:
+        """Number of candidates ``N``."""
         return int(self.twists.shape[0])
 
     @property
     def num_legal(self) -> int:
+        """Number of legal candidates."""
         return int(np.count_nonzero(self.legal))
 
     def rejection_summary(self) -> str:

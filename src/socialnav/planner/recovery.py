@@ -89,9 +89,11 @@ class RecoveringPlanner:
 
     @property
     def robot(self) -> RobotModel:
+        """The wrapped planner's robot model."""
         return self.planner.robot
 
     def reset(self) -> None:
+        """Forget recoveries, the progress anchor and the STUCK latch."""
         self.planner.reset()
         self._stuck = False
         self._phase: str | None = None
@@ -104,6 +106,7 @@ class RecoveringPlanner:
         self._goal: FloatArray | None = None
 
     def plan(self, ctx: PlanningContext, record: bool = False) -> PlannerResult:
+        """One cycle: the wrapped planner, or a recovery step, or STUCK; never raises."""
         pose = np.asarray(ctx.pose, dtype=float)
         if pose.shape != (3,) or not np.all(np.isfinite(pose)) or not np.isfinite(ctx.time):
             return self.planner.plan(ctx, record)  # INVALID_INPUT from the planner

@@ -28,9 +28,19 @@ from socialnav.core.trajectories import Trajectories
 
 
 class RolloutConfig(Protocol):
-    sim_time: float
-    sim_granularity: float
-    angular_sim_granularity: float
+    """What :func:`rollout` reads (``RolloutParams`` and ``LocalPlannerParams`` both fit)."""
+
+    @property
+    def sim_time(self) -> float:
+        """Rollout horizon (s)."""
+
+    @property
+    def sim_granularity(self) -> float:
+        """Largest translation between rollout poses (m)."""
+
+    @property
+    def angular_sim_granularity(self) -> float:
+        """Largest rotation between rollout poses (rad)."""
 
 
 @dataclass(frozen=True)
@@ -85,11 +95,14 @@ def rollout(
     t = np.linspace(0.0, params.sim_time, steps + 1)
     dt = params.sim_time / steps
     n = twists.shape[0]
+    vx: FloatArray
+    vy: FloatArray
+    w: FloatArray
     vx, vy, w = (twists[:, i : i + 1].astype(dtype) for i in range(3))
     # Heading is exact for a constant twist; position uses the previous step's heading (Euler).
     th = (pose[2] + w * t.astype(dtype)[None, :]).astype(dtype)
     c, s = np.cos(th[:, :-1]), np.sin(th[:, :-1])
-    poses = np.empty((n, steps + 1, 3), dtype=dtype)
+    poses: FloatArray = np.empty((n, steps + 1, 3), dtype=dtype)
     poses[:, 0, 0] = pose[0]
     poses[:, 0, 1] = pose[1]
     np.cumsum((vx * c - vy * s) * dtype(dt), axis=1, out=poses[:, 1:, 0])

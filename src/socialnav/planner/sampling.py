@@ -30,10 +30,21 @@ from socialnav.core.robot import RobotModel
 class SamplingConfig(Protocol):
     """What :func:`sample_twists` reads (``SamplingParams`` and ``LocalPlannerParams`` both fit)."""
 
-    vx_samples: int
-    vy_samples: int
-    vth_samples: int
-    controller_period: float
+    @property
+    def vx_samples(self) -> int:
+        """Samples of ``vx``."""
+
+    @property
+    def vy_samples(self) -> int:
+        """Samples of ``vy``."""
+
+    @property
+    def vth_samples(self) -> int:
+        """Samples of ``wz``."""
+
+    @property
+    def controller_period(self) -> float:
+        """Control period (s) of the dynamic window."""
 
 
 @dataclass(frozen=True)

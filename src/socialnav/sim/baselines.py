@@ -6,13 +6,16 @@
   the people within navground's sensing range. These are the peers a navground user would pick.
 - ``go_to_goal``: :class:`GoToGoalController`, a proportional law straight at the goal that
   ignores everyone — a lower bound and the test controller of the simulator.
+- ``straight_line``: the crowd suite's reference (SocNavBench's "how crowded is this
+  episode"): the start→goal line at full speed, no planner, ignoring everyone, stopping at the
+  goal (:class:`GoToGoalController` with an unbounded gain).
 """
 
 from __future__ import annotations
 
 import math
 from functools import partial
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, cast
 
 import numpy as np
 from navground import core
@@ -98,7 +101,7 @@ class NavgroundController:
         self._tolerance = self.tolerance_factor * float(scenario.goal_tolerance)
         self._dt = float(scenario.control_period)
         behavior = make_behavior(self.behavior_name, robot)
-        state = behavior.environment_state
+        state = cast(core.GeometricState, behavior.environment_state)
         state.line_obstacles = [
             core.LineSegment(tuple(a), tuple(b)) for a, b in static_segments(scenario)
         ]
@@ -139,7 +142,7 @@ class NavgroundController:
             self._set_target()
         positions, velocities, radii = social.positions(), social.velocities(), social.radii()
         near = np.hypot(*(positions - pose[:2]).T) <= self.sensing_range
-        b.environment_state.neighbors = [
+        cast(core.GeometricState, b.environment_state).neighbors = [
             core.Neighbor(
                 (float(p[0]), float(p[1])), float(r), (float(v[0]), float(v[1])), int(person.id)
             )
@@ -233,5 +236,15 @@ if "go_to_goal" not in CONTROLLERS:
         GoToGoalController,
         "proportional control straight at the goal, ignoring people (a lower bound)",
         order=900,
+        compared=False,
+    )
+#: gain (1/s) so large that the speed saturates at the robot's limit until the goal
+STRAIGHT_LINE_GAIN = 1.0e6
+if "straight_line" not in CONTROLLERS:
+    register_controller(
+        "straight_line",
+        partial(GoToGoalController, gain=STRAIGHT_LINE_GAIN),
+        "the start-goal line at full speed, ignoring people (the crowd suite's reference)",
+        order=950,
         compared=False,
     )

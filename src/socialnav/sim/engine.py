@@ -18,6 +18,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import SupportsFloat
 
 import numpy as np
 from navground import core, sim
@@ -87,7 +88,7 @@ class ControllerBehavior(core.Behavior):
             return 0.0, SocialContext()
         return self.observe(time_step)
 
-    def compute_cmd_internal(self, time_step: float) -> core.Twist2:
+    def compute_cmd_internal(self, time_step: SupportsFloat) -> core.Twist2:
         if self.controller is None or self.robot_model is None:
             self.last_output, self.last_cmd = None, np.zeros(3)
             return core.Twist2((0.0, 0.0), 0.0, frame=core.Frame.relative)

@@ -11,6 +11,7 @@ own start for people who stand): an extension beyond the paper.
 from __future__ import annotations
 
 import math
+from typing import SupportsFloat
 
 import numpy as np
 from navground import core, sim
@@ -39,7 +40,7 @@ class ScriptedHuman(core.Behavior):
         self.walk_speed = 0.0
         self.length = 0.0
 
-    def compute_cmd_internal(self, time_step: float) -> core.Twist2:
+    def compute_cmd_internal(self, time_step: SupportsFloat) -> core.Twist2:
         dt = float(time_step)
         if self.walk_speed <= 0.0 or dt <= 0.0:
             return core.Twist2((0.0, 0.0), 0.0, frame=core.Frame.absolute)
@@ -100,13 +101,14 @@ def make_person_agent(
             id=person.id,
         )
     elif humans == "scripted":
-        behavior = ScriptedHuman()
+        scripted = ScriptedHuman()
         if isinstance(person.behavior, Walk):
             direction, speed = person.behavior.direction_speed()
-            behavior.start = start
-            behavior.direction = direction
-            behavior.walk_speed = speed
-            behavior.length = person.behavior.length(person.position)
+            scripted.start = start
+            scripted.direction = direction
+            scripted.walk_speed = speed
+            scripted.length = person.behavior.length(person.position)
+        behavior: core.Behavior = scripted
         # Kinematic limits well above the scripted speed: navground must never rescale it.
         kinematics = core.kinematics.OmnidirectionalKinematics(2.0 * speed + 0.1, 1.0)
         agent = sim.Agent(
@@ -122,7 +124,10 @@ def make_person_agent(
                 f"unknown reactive human behaviour {reactive_behavior!r}; "
                 f"known: {', '.join(REACTIVE_BEHAVIORS)}"
             )
-        behavior = core.Behavior.make_type(reactive_behavior)
+        reactive = core.Behavior.make_type(reactive_behavior)
+        if reactive is None:  # pragma: no cover - REACTIVE_BEHAVIORS are navground's own
+            raise ConfigurationError(f"navground has no behaviour {reactive_behavior!r}")
+        behavior = reactive
         goal = person.reactive_goal
         if goal is None:
             end = person.end_point()

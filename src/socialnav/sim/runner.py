@@ -96,8 +96,9 @@ def run_episode(
     (built with ``controller_params``; navground behaviours are registered as ``orca``, ``hl``,
     ``social_force``). ``humans``: ``"scripted"`` (the paper) or ``"reactive"`` (navground
     ``reactive_behavior``, default ``HL``). Success is measured against the target the
-    controller recorded last (``PlannerResult.target``), else the scenario's
-    (:func:`~socialnav.sim.target.resolve_target`). ``diagnostics`` (when
+    controller recorded last (``PlannerResult.target``) when it resolved one other than the
+    given goal, else the scenario's (:func:`~socialnav.sim.target.resolve_target`); the record's
+    ``meta["target_source"]`` says which. ``diagnostics`` (when
     ``record_diagnostics``) holds each sample's evaluation record or ``None``.
     """
     wall_start = _time.perf_counter()
@@ -152,7 +153,11 @@ def run_episode(
             reason = "goal_reached"
             break
 
-    measured = target.pose if driven_to is None or target.waypoint is not None else driven_to
+    # Success is measured at the target the controller drove to when it resolved one itself (its
+    # social goal, a reachable substitute for a blocked goal); a controller that drove to the
+    # given goal is still measured at the scenario's social goal, which it may have ignored.
+    own = driven_to is not None and not np.allclose(driven_to, np.asarray(scn.goal, dtype=float))
+    measured = driven_to if own and target.waypoint is None else target.pose
     record = recorder.build(
         dt=dt,
         robot_radius=model.circumscribed_radius,
@@ -163,6 +168,7 @@ def run_episode(
         goal_tolerance=float(scn.goal_tolerance),
         time_limit=float(scn.time_limit),
         family=scn.family,
+        success=scn.success_spec(model.name),
         scenario=scn.name,
         context=social0,
         meta={
@@ -172,8 +178,8 @@ def run_episode(
             "humans": humans,
             "reactive_behavior": reactive_behavior if humans == "reactive" else None,
             "termination": reason,
-            "success_options": scn.success.model_dump(),
             "engine": f"navground {core.get_build_info().version_string}",
+            "target_source": "controller" if own and target.waypoint is None else "scenario",
             **target.meta,
         },
     )

@@ -20,7 +20,7 @@ import math
 from collections.abc import Sequence
 from importlib import resources
 from pathlib import Path
-from typing import Annotated, Any, Literal, get_args
+from typing import Annotated, Any, Literal
 
 import numpy as np
 import yaml
@@ -37,24 +37,30 @@ from pydantic import (
 from socialnav.core.errors import ConfigurationError
 from socialnav.core.geometry import FloatArray
 from socialnav.core.robot import RobotModel
-from socialnav.core.scene import HUMAN_RADIUS, Artwork, Group, Person, Queue, SocialContext
+from socialnav.core.scene import (
+    HUMAN_RADIUS,
+    Artwork,
+    Group,
+    Person,
+    Queue,
+    SocialContext,
+    Structure,
+)
+from socialnav.core.success import (
+    FAMILIES,
+    ConditionOverride,
+    ConditionSpec,
+    apply_overrides,
+    judged_family,
+)
 from socialnav.social.spaces import fit_circle
+from socialnav.social.structures import (
+    make_structure,
+    structure_conditions,
+    structure_json_schemas,
+)
 from socialnav.world.grid import Costmap, GridGeometry
 
-#: scenario families: the paper's, the generated suite's ``mixed`` (a group or queue plus
-#: walkers) and ``crowdnav`` (Chen et al. 2019's circle crossing); "custom" = no family-specific
-#: success conditions
-FamilyName = Literal[
-    "hallway",
-    "gallery_present",
-    "gallery_activity",
-    "queue",
-    "group",
-    "mixed",
-    "crowdnav",
-    "custom",
-]
-FAMILIES: tuple[str, ...] = get_args(FamilyName)
 DISC_POLYGON_SIDES = 24
 
 
@@ -270,6 +276,40 @@ class ArtworkSpec(_Model):
     viewers: list[int] = Field(default_factory=list)
 
 
+class RobotSuccessOverride(_Model):
+    """A change to one success condition for one robot model (``success.NAME.per_robot``)."""
+
+    required: bool | None = Field(None, description="whether the condition counts toward success")
+    tolerance: Finite | None = Field(None, description="the condition's tolerance, in its unit")
+    reason: str | None = Field(None, description="why it is not required (shown in reports)")
+
+    def override(self) -> ConditionOverride:
+        tolerance = None if self.tolerance is None else float(self.tolerance)
+        return ConditionOverride(self.required, tolerance, self.reason)
+
+
+class SuccessOverride(RobotSuccessOverride):
+    """A scenario's change to one success condition (``success: {NAME: {...}}``);
+    ``per_robot`` changes it further for one robot model (a corridor wide enough for one
+    robot's clearance may not be for another's)."""
+
+    per_robot: dict[str, RobotSuccessOverride] = Field(
+        default_factory=dict, description="robot model name → its own change of this condition"
+    )
+
+
+def _known_family(value: str) -> str:
+    if value not in FAMILIES:
+        raise ValueError(FAMILIES.unknown_message(value))
+    return value
+
+
+def _structures(value: list[dict[str, Any]]) -> list[dict[str, Any]]:
+    for i, item in enumerate(value):
+        make_structure(item, where=str(i))  # raises with the entry's index and field
+    return value
+
+
 class Jitter(_Model):
     """Per-seed randomization (see :meth:`Scenario.randomize`)."""
 
@@ -286,41 +326,6 @@ class Jitter(_Model):
     )
 
 
-# --- success options and feasibility (per scenario) ------------------------------------------
-
-
-class ConditionOption(_Model):
-    """Whether one success condition counts toward ``success``, and why not."""
-
-    required: bool = True
-    reason: str = Field("", description="why the condition is not required (shown in reports)")
-
-
-class SuccessOptions(_Model):
-    """Per-scenario tolerances and required conditions (``metrics.success`` reads them).
-
-    Unset tolerances keep the family defaults (the paper suite's). ``conditions`` maps a
-    condition name to its option; ``per_robot`` overrides it for one robot model (a corridor
-    wide enough for one robot's clearance may not be for another's).
-    """
-
-    position_tolerance: Positive | None = Field(
-        None, description="m: arrival at the target (and social spot) counts within this"
-    )
-    yaw_tolerance: Positive | None = Field(
-        None, description="rad: arrival also needs the final yaw this close to the target's"
-    )
-    heading_tolerance: Positive | None = Field(
-        None, description="rad: facing conditions (queue, group, viewer); default 0.5"
-    )
-    conditions: dict[str, ConditionOption] = Field(default_factory=dict)
-    per_robot: dict[str, dict[str, ConditionOption]] = Field(default_factory=dict)
-
-    def for_robot(self, robot: str) -> dict[str, ConditionOption]:
-        """Condition options for ``robot``: ``conditions`` updated by ``per_robot[robot]``."""
-        return {**self.conditions, **self.per_robot.get(robot, {})}
-
-
 # --- the scenario ---------------------------------------------------------------------------
 
 
@@ -328,7 +333,9 @@ class Scenario(_Model):
     """One test situation: map, robot start and given goal, people and their social structure."""
 
     name: str
-    family: FamilyName
+    family: Annotated[str, AfterValidator(_known_family)] = Field(
+        description="a registered scenario family (socialnav.core.success.FAMILIES)"
+    )
     description: str = ""
     map: MapSpec = Field(default_factory=MapSpec)
     start: Pose
@@ -338,6 +345,14 @@ class Scenario(_Model):
     groups: list[GroupSpec] = Field(default_factory=list)
     queues: list[QueueSpec] = Field(default_factory=list)
     artworks: list[ArtworkSpec] = Field(default_factory=list)
+    structures: Annotated[list[dict[str, Any]], AfterValidator(_structures)] = Field(
+        default_factory=list,
+        description="social structures of registered kinds: {type: KIND, ...its parameters}",
+    )
+    success: dict[str, SuccessOverride] = Field(
+        default_factory=dict,
+        description="per-condition overrides of the family's success conditions",
+    )
     time_limit: Positive = 60.0
     control_period: Positive = 0.1
     seed: int = 0
@@ -348,7 +363,6 @@ class Scenario(_Model):
     reactive_behavior: Literal["HL", "ORCA", "SocialForce"] | None = Field(
         None, description="navground behaviour of reactive people (default HL)"
     )
-    success: SuccessOptions = Field(default_factory=SuccessOptions)
     feasibility: dict[str, dict[str, float | bool | str]] = Field(
         default_factory=dict,
         description="facts per robot model that the success conditions rely on (generated "
@@ -373,6 +387,11 @@ class Scenario(_Model):
                 missing = [m for m in getattr(item, attr) if m not in known]
                 if missing:
                     raise ValueError(f"{kind}.{i}.{attr}: unknown person ids {missing}")
+        for i, structure in enumerate(self.structure_list()):
+            missing = [m for m in structure.member_ids if m not in known]
+            if missing:
+                raise ValueError(f"structures.{i}: unknown person ids {missing}")
+        self.success_spec()  # an override of a condition that does not apply fails here
         if self.control_period > self.time_limit:
             raise ValueError("control_period must not exceed time_limit")
         return self
@@ -416,8 +435,31 @@ class Scenario(_Model):
         )
         return self.context_with_people(people)
 
+    def structure_list(self) -> tuple[Structure, ...]:
+        """The ``structures:`` entries, validated by their kinds."""
+        return tuple(
+            make_structure(s, where=f"structures.{i}") for i, s in enumerate(self.structures)
+        )
+
+    def family_conditions(self) -> tuple[ConditionSpec, ...]:
+        """The family's and structures' conditions, before this scenario's overrides (a
+        ``mixed`` scene is judged as ``queue`` when it has a queue, else as ``group``)."""
+        family = judged_family(self.family, bool(self.queues))
+        return FAMILIES.get(family).conditions + structure_conditions(self.structure_list())
+
+    def success_spec(self, robot: str = "") -> tuple[ConditionSpec, ...]:
+        """The conditions this scenario is judged on: :meth:`family_conditions` with its
+        ``success:`` overrides applied, then those of ``per_robot[robot]``. Raises
+        ``ConfigurationError`` for an override of a condition that does not apply."""
+        specs = self.family_conditions()
+        specs = apply_overrides(
+            specs, {k: v.override() for k, v in self.success.items()}, where=self.name
+        )
+        per_robot = {k: v.per_robot[robot] for k, v in self.success.items() if robot in v.per_robot}
+        return apply_overrides(specs, {k: o.override() for k, o in per_robot.items()}, self.name)
+
     def context_with_people(self, people: tuple[Person, ...]) -> SocialContext:
-        """Groups, queues and artworks of this scenario around the given people."""
+        """Groups, queues, artworks and structures of this scenario around the given people."""
         return SocialContext(
             people=people,
             groups=tuple(Group(tuple(g.members), g.mode) for g in self.groups),
@@ -438,6 +480,7 @@ class Scenario(_Model):
                 )
                 for a in self.artworks
             ),
+            structures=self.structure_list(),
         )
 
     # -- geometry -----------------------------------------------------------------------------
@@ -732,6 +775,11 @@ def _load_file(path: Path) -> Scenario:
 def scenario_json_schema() -> dict[str, Any]:
     """JSON Schema of scenario files (for editors and ``socialnav schema``)."""
     schema = Scenario.model_json_schema()
+    props = schema["properties"]
+    props["family"]["enum"] = FAMILIES.names()
+    kinds = structure_json_schemas()
+    if kinds:
+        props["structures"]["items"] = {"oneOf": kinds}
     schema["$schema"] = "https://json-schema.org/draft/2020-12/schema"
     schema.setdefault("title", "socialnav scenario")
     return schema

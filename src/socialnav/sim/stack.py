@@ -7,15 +7,18 @@ navground's own YAML experiments (through the ``SocialNav`` behaviour) can use i
 
 from __future__ import annotations
 
+import dataclasses
+from collections.abc import Mapping
 from functools import partial
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from socialnav.core.errors import ConfigurationError
 from socialnav.core.geometry import FloatArray
 from socialnav.core.robot import RobotModel
 from socialnav.core.scene import SocialContext
-from socialnav.planner.local_planner import PlannerResult, PlannerStatus
+from socialnav.planner.local_planner import LocalPlannerParams, PlannerResult, PlannerStatus
 from socialnav.planner.presets import PRESETS, build_navigator
 from socialnav.sim.controller import CONTROLLERS, register_controller
 
@@ -25,12 +28,23 @@ if TYPE_CHECKING:
 
 
 class StackController:
-    """Global plan + local planner of preset ``preset``; ``record`` keeps per-cycle records."""
+    """Global plan + local planner of preset ``preset``; ``record`` keeps per-cycle records.
 
-    def __init__(self, preset: str = "paccet", record: bool = False) -> None:
-        PRESETS.get(preset)
+    ``params``: the local planner's ROS-named parameters — a :class:`LocalPlannerParams`, or a
+    mapping of field overrides applied to the preset's own parameters (``None``: the preset's).
+    Raises :class:`~socialnav.core.errors.ConfigurationError` for an unknown preset or field.
+    """
+
+    def __init__(
+        self,
+        preset: str = "paccet",
+        record: bool = False,
+        params: LocalPlannerParams | Mapping[str, Any] | None = None,
+    ) -> None:
+        self.preset_spec = PRESETS.get(preset)
         self.preset = preset
         self.record = record
+        self.params = _planner_params(self.preset_spec.params, params)
         self.navigator: Navigator | None = None
 
     def reset(self, scenario: Scenario, robot: RobotModel) -> None:
@@ -41,6 +55,7 @@ class StackController:
             goal=np.asarray(scenario.goal, dtype=float),
             social=scenario.social_context(scenario.start),
             record=self.record,
+            params=self.params,
         )
 
     def step(
@@ -49,6 +64,20 @@ class StackController:
         if self.navigator is None:
             return PlannerResult(np.zeros(3), PlannerStatus.INVALID_INPUT, None, "reset() first")
         return self.navigator.step(time, pose, velocity, social)
+
+
+def _planner_params(
+    base: LocalPlannerParams, params: LocalPlannerParams | Mapping[str, Any] | None
+) -> LocalPlannerParams:
+    if params is None or isinstance(params, LocalPlannerParams):
+        return params or base
+    known = {f.name for f in dataclasses.fields(LocalPlannerParams)}
+    unknown = sorted(set(params) - known)
+    if unknown:
+        raise ConfigurationError(
+            f"unknown local planner parameter(s) {unknown}; known: {', '.join(sorted(known))}"
+        )
+    return dataclasses.replace(base, **params)
 
 
 for _name in PRESETS.names():

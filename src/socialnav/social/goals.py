@@ -46,7 +46,9 @@ from socialnav.social.spaces import (
     segment_polygon_distance,
 )
 
-GoalKind = Literal["queue_tail", "o_formation", "o_formation_lead", "presenter", "waypoint"]
+#: built-in kinds: queue_tail, o_formation, o_formation_lead, presenter, waypoint; a structure
+#: kind of :mod:`socialnav.social.structures` names its own
+GoalKind = str
 FreeFn = Callable[[FloatArray], NDArray[np.bool_]]
 
 #: Default tolerances of a stopping social goal (the scenarios' success radius is 0.3 m).
@@ -82,10 +84,12 @@ class SocialGoal:
 
     @property
     def position(self) -> FloatArray:
+        """``(2,)`` world position (m)."""
         return self.pose[:2]
 
     @property
     def yaw(self) -> float:
+        """Goal heading (rad, world)."""
         return float(self.pose[2])
 
 

@@ -10,8 +10,10 @@ chosen from the :class:`~socialnav.core.scene.SocialContext` and the goal the ro
      join spot, or the leader's spot when ``Group.mode == "lead"``;
    - an artwork viewer within ``viewer_radius`` (1.6 m, the presenter distance range's upper end)
      of the given goal, or a given goal inside that viewer's activity space → the presenter spot.
+   - a structure of a registered kind (:mod:`socialnav.social.structures`) whose own rule says
+     the given goal is about it → its social goal.
    When several apply, the one whose anchor (service point/head, centre, viewer) is nearest the
-   given goal wins; ties go in the order queue, group, artwork.
+   given goal wins; ties go in the order queue, group, artwork, registered structures.
 2. Otherwise, *passing*: if the straight robot→goal segment comes within ``activity_margin``
    (0.3 m) of an activity space, a waypoint behind that viewer (the crossed space nearest the
    robot); the rule is stateless, so the waypoint disappears once the straight segment is clear.
@@ -39,6 +41,7 @@ from socialnav.social.goals import (
     queue_tail_pose,
 )
 from socialnav.social.spaces import activity_space_polygon, fit_circle, segment_polygon_distance
+from socialnav.social.structures import structure_social_goals
 
 
 def resolve_social_goal(
@@ -116,6 +119,9 @@ def resolve_social_goal(
                     free_fn=free_fn,
                 )
                 found.append((anchor, 2, spot))
+
+    for anchor, spot in structure_social_goals(social, goal, pose):
+        found.append((anchor, 3, spot))
 
     if found:
         found.sort(key=lambda item: (item[0], item[1]))

@@ -195,7 +195,8 @@ def draw_map(ax: Axes, record: EpisodeRecord) -> list[Any]:
 
 
 def draw_social(ax: Axes, record: EpisodeRecord) -> dict[str, list[Any]]:
-    """O-spaces and group circles, activity spaces, queue lines and cut-in bands.
+    """O-spaces and group circles, activity spaces, queue lines and cut-in bands; structures of
+    registered kinds through their own ``draw``.
 
     Geometry comes from :mod:`socialnav.social.spaces` (drawn only when that module imports).
     Returns artists by kind: ``o_space``, ``group_circle``, ``activity_space``, ``queue_band``,
@@ -292,6 +293,11 @@ def draw_social(ax: Axes, record: EpisodeRecord) -> dict[str, list[Any]]:
                 label="queue cut-in band",
             )
             out["queue_band"].append(ax.add_collection(pc, autolim=False))
+    if record.context.structures:  # kinds registered in socialnav.social.structures draw themselves
+        from socialnav.social.structures import STRUCTURES
+
+        for structure in record.context.structures:
+            STRUCTURES.get(structure.kind).draw(ax, structure.params, record.context)
     return out
 
 

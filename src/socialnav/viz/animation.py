@@ -189,10 +189,12 @@ def animate_episode(
         raise ValueError(f"fps must be positive, got {fps}")
     if fans is not None and len(fans) > record.num_steps:
         raise ValueError(f"{len(fans)} fans for a record of {record.num_steps} samples")
-    ffmpeg = None
+    ffmpeg: Any = None
     if kind == "mp4":
         try:
-            import imageio_ffmpeg as ffmpeg
+            import imageio_ffmpeg
+
+            ffmpeg = imageio_ffmpeg
         except ImportError as exc:
             raise ImportError(
                 "writing MP4 needs imageio-ffmpeg: pip install 'socialnav[video]' "

@@ -58,6 +58,7 @@ PLANNER_STYLES: dict[str, PathStyle] = {
     "irl": PathStyle("#9467bd", ":", "v", "IRL"),
     "orca": PathStyle("#8c564b", "-.", "D", "ORCA"),
     "hl": PathStyle("#17becf", "-.", "P", "HL"),
+    "straight_line": PathStyle("#555555", ":", "x", "straight line (reference)"),
     "socialforce": PathStyle("#bcbd22", "-.", "X", "social force"),
     "social_force": PathStyle("#bcbd22", "-.", "X", "social force"),
 }

@@ -39,10 +39,12 @@ class GridGeometry:
 
     @property
     def width_m(self) -> float:
+        """Grid width (m, x)."""
         return self.shape[1] * self.resolution
 
     @property
     def height_m(self) -> float:
+        """Grid height (m, y)."""
         return self.shape[0] * self.resolution
 
     def world_to_cell(self, xy: ArrayLike) -> NDArray[np.intp]:
@@ -60,6 +62,7 @@ class GridGeometry:
         return np.stack([x, y], axis=-1)
 
     def in_bounds(self, rc: ArrayLike) -> NDArray[np.bool_]:
+        """``(...)`` whether cells ``rc (..., 2)`` (row, col) lie on the grid."""
         c = np.asarray(rc)
         return (
             (c[..., 0] >= 0)
@@ -91,6 +94,7 @@ class Costmap:
 
     @property
     def resolution(self) -> float:
+        """Cell size (m)."""
         return self.geometry.resolution
 
     def cost_at(self, xy: ArrayLike, outside: int = LETHAL) -> NDArray[np.uint8]:

@@ -81,6 +81,7 @@ class OccupancyMap:
 
     @property
     def mode(self) -> str:
+        """The map's ``mode`` (trinary, scale or raw; ROS map_server)."""
         return str(self.meta.get("mode", "trinary"))
 
     @classmethod
@@ -147,8 +148,11 @@ def _parse_negate(raw: Any, path: Path) -> bool:
     raise MapFileError(f"{path}: field 'negate' must be 0, 1, true or false, got {raw!r}")
 
 
-def _read_pixels(image_path: Path, yaml_path: Path, mode: str) -> tuple[NDArray, NDArray]:
+def _read_pixels(
+    image_path: Path, yaml_path: Path, mode: str
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Channel average ``(H, W)`` float and alpha ``(H, W)`` (255 when the image has none)."""
+    img: Image.Image
     try:
         with Image.open(image_path) as im:
             im.load()

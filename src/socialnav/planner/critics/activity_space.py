@@ -66,6 +66,7 @@ class ActivitySpaceCritic(Critic):
             raise ConfigurationError("activity_space: margin and shoulder must be >= 0")
 
     def score(self, trajs: Trajectories, ctx: PlanningContext) -> CriticScore:
+        """Raw cost ``(N,)`` and illegal masks of the batch (see the class docstring)."""
         n = len(trajs)
         polys = activity_spaces(ctx.social, self.shoulder)
         if not polys:
@@ -88,6 +89,8 @@ class ActivitySpaceCritic(Critic):
         else:
             cost = depth @ dt
         illegal = (
-            {"activity_space_intrusion": (depth > 0).any(axis=1)} if self.illegal_inside else {}
+            {"activity_space_intrusion": np.asarray((depth > 0).any(axis=1))}
+            if self.illegal_inside
+            else {}
         )
         return CriticScore(np.asarray(cost, dtype=float), illegal)

@@ -33,6 +33,7 @@ class ArrivalTimeCritic(Critic):
     unit: ClassVar[str] = "s"
 
     def score(self, trajs: Trajectories, ctx: PlanningContext) -> CriticScore:
+        """Raw cost ``(N,)`` in s: first step on the goal, else the horizon plus one step."""
         t = trajs.t
         late = float(t[-1] + (t[1] - t[0] if t.shape[0] > 1 else 0.0))
         on_goal = (trajs.xy[..., 0] == ctx.goal[0]) & (trajs.xy[..., 1] == ctx.goal[1])

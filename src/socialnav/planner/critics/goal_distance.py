@@ -34,6 +34,7 @@ class GoalDistanceCritic(Critic):
     unit: ClassVar[str] = "m"
 
     def prepare(self, ctx: PlanningContext) -> None:
+        """Build the cycle's goal-distance grid (``CriticUnavailable``: no plan cell in view)."""
         if "goal_distance_grid" in ctx.extras:  # idempotent within one cycle
             return
         cells = ctx.extras.get("local_plan_cells")
@@ -45,6 +46,7 @@ class GoalDistanceCritic(Critic):
         ctx.extras["goal_distance_grid"] = grid_graph(ctx).distance(cells[-1:], settle_region(ctx))
 
     def score(self, trajs: Trajectories, ctx: PlanningContext) -> CriticScore:
+        """Distance (m) from each end point to the local goal ``(N,)``; illegal masks."""
         if "goal_distance_grid" not in ctx.extras:
             self.prepare(ctx)
         return score_end_points(ctx.extras["goal_distance_grid"], trajs, ctx)

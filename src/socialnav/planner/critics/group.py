@@ -79,6 +79,7 @@ class GroupCritic(Critic):
             )
 
     def score(self, trajs: Trajectories, ctx: PlanningContext) -> CriticScore:
+        """Raw cost ``(N,)`` and illegal masks of the batch (see the class docstring)."""
         n = len(trajs)
         centers, radii = group_ospaces(ctx.social, self.margin)
         if radii.size == 0:
@@ -96,5 +97,5 @@ class GroupCritic(Critic):
                 dx = trajs.xy[:, :, None, 0] - centers[:, 0]
                 dy = trajs.xy[:, :, None, 1] - centers[:, 1]
                 d2 = dx * dx + dy * dy
-            illegal["ospace_intrusion"] = (d2 < radii**2).any(axis=(1, 2))
+            illegal["ospace_intrusion"] = np.asarray((d2 < radii**2).any(axis=(1, 2)))
         return CriticScore(cost, illegal)

@@ -54,6 +54,7 @@ class HeadingCritic(Critic):
             raise ValueError("heading_lookahead and spacing must be positive")
 
     def prepare(self, ctx: PlanningContext) -> None:
+        """Densify the plan near the robot and its tangents (per cycle)."""
         if "heading_plan" in ctx.extras:
             return
         path = np.asarray(ctx.global_path, dtype=float).reshape(-1, 2)
@@ -75,6 +76,7 @@ class HeadingCritic(Critic):
         ctx.extras["heading_plan"] = (dense, s, tangent)
 
     def score(self, trajs: Trajectories, ctx: PlanningContext) -> CriticScore:
+        """Heading error (rad) ``(N,)`` of each end pose against the plan ahead."""
         if np.hypot(*(np.asarray(ctx.pose[:2]) - np.asarray(ctx.goal[:2]))) < self.near_goal:
             return CriticScore(np.zeros(len(trajs)))
         if "heading_plan" not in ctx.extras:

@@ -173,6 +173,7 @@ class InterpersonalCritic(Critic):
             )
 
     def score(self, trajs: Trajectories, ctx: PlanningContext) -> CriticScore:
+        """Raw cost ``(N,)`` and illegal masks of the batch (see the class docstring)."""
         n = len(trajs)
         people_now = ctx.social.positions()  # (K, 2)
         k = people_now.shape[0]
@@ -218,5 +219,5 @@ class InterpersonalCritic(Critic):
         if self.collision_check:
             # any over time of d² < r² is (min over time of d²) < r²
             assert d2min is not None
-            illegal["person_collision"] = (d2min < (radii + robot_r) ** 2).any(axis=1)
+            illegal["person_collision"] = np.asarray((d2min < (radii + robot_r) ** 2).any(axis=1))
         return CriticScore(np.ascontiguousarray(cost, dtype=float), illegal)

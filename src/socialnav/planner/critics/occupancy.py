@@ -87,6 +87,7 @@ class OccupancyCritic(Critic):
     meter_scoring: bool = True
 
     def prepare(self, ctx: PlanningContext) -> None:
+        """Per-cycle costmap lookups shared by every batch of the cycle."""
         if not self.footprint:
             return
         if "occupancy_outline" not in ctx.extras:
@@ -95,6 +96,7 @@ class OccupancyCritic(Critic):
             _prepare_clearance(ctx)
 
     def score(self, trajs: Trajectories, ctx: PlanningContext) -> CriticScore:
+        """Costmap cost ``(N,)`` along each rollout; collisions illegal."""
         geom = ctx.costmap.geometry
         costs = ctx.costmap.costs
         poses = trajs.poses[:, 1:] if trajs.poses.shape[1] > 1 else trajs.poses

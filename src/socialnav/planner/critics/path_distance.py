@@ -298,6 +298,7 @@ class PathDistanceCritic(Critic):
     unit: ClassVar[str] = "m"
 
     def prepare(self, ctx: PlanningContext) -> None:
+        """Build the cycle's path-distance grid (``CriticUnavailable``: no plan cell in view)."""
         if "path_distance_grid" in ctx.extras:  # idempotent within one cycle
             return
         cells = local_plan_cells(ctx.costmap, ctx.global_path)
@@ -307,6 +308,7 @@ class PathDistanceCritic(Critic):
         ctx.extras["path_distance_grid"] = grid_graph(ctx).distance(cells, settle_region(ctx))
 
     def score(self, trajs: Trajectories, ctx: PlanningContext) -> CriticScore:
+        """Distance (m) from each end point to the plan ``(N,)``; illegal masks."""
         if "path_distance_grid" not in ctx.extras:
             self.prepare(ctx)
         return score_end_points(ctx.extras["path_distance_grid"], trajs, ctx)

@@ -67,6 +67,7 @@ class SocialGoalCritic(Critic):
             raise ConfigurationError("social_goal: heading_weight, heading_radius must be >= 0")
 
     def score(self, trajs: Trajectories, ctx: PlanningContext) -> CriticScore:
+        """Raw cost ``(N,)`` of the batch (see the class docstring)."""
         n = len(trajs)
         if ctx.social_goal is None:
             return CriticScore(np.zeros(n))

@@ -14,7 +14,8 @@ from socialnav.core.errors import ConfigurationError
 from socialnav.core.geometry import FloatArray
 from socialnav.core.registry import Registry
 from socialnav.core.robot import ROBOT_MODELS, RobotModel
-from socialnav.sim.scenario import ConditionOption, Scenario, SuccessOptions
+from socialnav.core.success import FAMILIES, judged_family
+from socialnav.sim.scenario import RobotSuccessOverride, Scenario, SuccessOverride
 
 #: seeds from here on are the reporting split; below it, development
 REPORTING_SEED = 10_000
@@ -265,15 +266,29 @@ def spot_facts(
     return facts, goal
 
 
+#: the conditions that judge arrival at the target's position (the social spot's included)
+POSITION_CONDITIONS = ("reached_goal", "at_presenter_spot", "at_tail_slot", "at_free_spot")
+
+
 def success_options(
-    at_spot: bool, per_robot: dict[str, dict[str, ConditionOption]] | None = None
-) -> SuccessOptions:
-    """The generated suite's tolerances (yaw only where the target is a social spot)."""
-    return SuccessOptions(
-        position_tolerance=POSITION_TOLERANCE,
-        yaw_tolerance=YAW_TOLERANCE if at_spot else None,
-        per_robot=per_robot or {},
-    )
+    family: str,
+    at_spot: bool,
+    per_robot: dict[str, dict[str, RobotSuccessOverride]] | None = None,
+    has_queue: bool = False,
+) -> dict[str, SuccessOverride]:
+    """The generated suite's ``success:`` overrides for a scene of ``family``: arrival within
+    :data:`POSITION_TOLERANCE` (target and social spot), the final yaw within
+    :data:`YAW_TOLERANCE` where the target is a social spot (``at_spot``), and ``per_robot``
+    (robot model → condition → change, e.g. not required with the reason)."""
+    names = {c.name for c in FAMILIES.get(judged_family(family, has_queue)).conditions}
+    out = {n: SuccessOverride(tolerance=POSITION_TOLERANCE) for n in POSITION_CONDITIONS}
+    if at_spot:
+        out["arrival_yaw"] = SuccessOverride(tolerance=YAW_TOLERANCE)
+    for robot, changes in (per_robot or {}).items():
+        for name, change in changes.items():
+            entry = out.setdefault(name, SuccessOverride())
+            entry.per_robot[robot] = change
+    return {n: o for n, o in out.items() if n in names}
 
 
 def time_limit_for(distance: float, slack: float = 40.0) -> float:

@@ -157,7 +157,7 @@ def _draw(rng: np.random.Generator, name: str, visible: bool) -> Scenario:
         time_limit=TIME_LIMIT,
         humans="reactive" if visible else "scripted",
         reactive_behavior="ORCA" if visible else None,
-        success=success_options(False),
+        success=success_options("crowdnav", False),
         feasibility=facts,
     )
 

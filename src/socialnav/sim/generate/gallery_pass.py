@@ -60,7 +60,7 @@ def draw(rng: np.random.Generator, name: str) -> Scenario:
         people=viewers,
         artworks=[art],
         time_limit=time_limit_for(float(np.linalg.norm(goal_xy - start_xy)) * 2.0),
-        success=success_options(False),
+        success=success_options("gallery_activity", False),
     )
     polys = activity_spaces(art, viewers)
     facts: dict[str, dict[str, float | bool | str]] = {}

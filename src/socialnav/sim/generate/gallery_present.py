@@ -101,7 +101,7 @@ def draw(rng: np.random.Generator, name: str) -> Scenario:
         people=viewers,
         artworks=[art],
         time_limit=time_limit_for(float(np.linalg.norm(goal_xy - start_xy)) * 1.5),
-        success=success_options(True),
+        success=success_options("gallery_present", True),
     )
     facts, _ = spot_facts(scn, blocked_polygons=activity_spaces(art, viewers))
     return scn.model_copy(update={"feasibility": facts})

@@ -50,7 +50,7 @@ def draw_group_scene(rng: np.random.Generator, name: str, mode: str, arc: float)
         people=people,
         groups=[group],
         time_limit=time_limit_for(float(np.linalg.norm(center - start_xy)) * 2.0),
-        success=success_options(True),
+        success=success_options("group", True),
     )
     disc = o_space(np.array([p.position for p in people], dtype=float))
     facts, _ = spot_facts(scn, blocked_discs=[disc])

@@ -33,7 +33,7 @@ from socialnav.sim.generate.common import (
     uniform,
     xy,
 )
-from socialnav.sim.scenario import ConditionOption, PersonSpec, Scenario, Stand, Walk
+from socialnav.sim.scenario import PersonSpec, RobotSuccessOverride, Scenario, Stand, Walk
 from socialnav.social.proxemics import PERSONAL
 
 WIDTH = (2.2, 4.0)
@@ -96,7 +96,7 @@ def draw(rng: np.random.Generator, name: str) -> Scenario:
         ((length, -half), (length, half)),
     ]
     feasibility: dict[str, dict[str, float | bool | str]] = {}
-    per_robot: dict[str, dict[str, ConditionOption]] = {}
+    per_robot: dict[str, dict[str, RobotSuccessOverride]] = {}
     for robot_name in ROBOTS:
         w = half_width(robot_model(robot_name))
         y_lim = half - w - CLEARANCE_MARGIN
@@ -117,7 +117,7 @@ def draw(rng: np.random.Generator, name: str) -> Scenario:
         if np.isfinite(worst) and worst < PERSONAL + CLEARANCE_MARGIN:
             facts["personal_space_feasible"] = False
             per_robot[robot_name] = {
-                "no_personal_space_intrusion": ConditionOption(
+                "no_personal_space_intrusion": RobotSuccessOverride(
                     required=False,
                     reason=f"the corridor allows at most {worst:.2f} m from a person "
                     f"(< {PERSONAL} m) for {robot_name}",
@@ -136,7 +136,7 @@ def draw(rng: np.random.Generator, name: str) -> Scenario:
         goal_tolerance=0.1,
         people=people,
         time_limit=time_limit_for(goal[0] - start[0]),
-        success=success_options(False, per_robot),
+        success=success_options("hallway", False, per_robot),
         feasibility=feasibility,
     )
 

@@ -95,7 +95,7 @@ def draw(rng: np.random.Generator, name: str) -> Scenario:
         goal=(*xy(goal_xy), r3(yaw)),
         people=members + walkers,
         time_limit=time_limit_for(float(np.linalg.norm(goal_xy - start_xy)) * 2.0),
-        success=success_options(True),
+        success=success_options("mixed", True, has_queue=not use_group),
         **extra,
     )
     if use_group:

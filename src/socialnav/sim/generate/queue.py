@@ -95,7 +95,7 @@ def draw(rng: np.random.Generator, name: str) -> Scenario:
         people=people,
         queues=[queue],
         time_limit=time_limit_for(float(np.linalg.norm(goal_xy - start_xy)) * 2.0),
-        success=success_options(True),
+        success=success_options("queue", True),
     )
     facts, _ = spot_facts(scn, blocked_polygons=bands(people))
     return scn.model_copy(update={"feasibility": facts})

@@ -1,0 +1,238 @@
+"""The crowd suite: planners among replayed recorded pedestrians (``--suite crowds``).
+
+Every run is one :class:`CrowdSpec` — recording file × planner × robot × seed; the seed selects
+the episode (``socialnav.crowds.episodes``). The ``straight_line`` reference runs beside the
+planners in every suite, so each episode shows how crowded it is. The row's metrics follow
+SocNavBench / Francis et al. (``socialnav.metrics.crowd``).
+"""
+
+from __future__ import annotations
+
+import time
+import traceback
+from dataclasses import asdict, dataclass
+from functools import lru_cache
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from socialnav.core.errors import ConfigurationError
+
+#: the reference controller of every crowd run (no planner: the straight line at full speed)
+REFERENCE = "straight_line"
+#: the reporting seeds (tune on seeds below 10,000)
+REPORT_SEEDS = "10000:10050"
+#: metrics of a crowd row (``metric.<name>``)
+CROWD_METRICS = (
+    "success",
+    "collisions_active",
+    "collisions_passive",
+    "min_distance_footprint",
+    "time_within_0.45",
+    "time_within_1.2",
+    "path_length_ratio",
+    "time_to_goal",
+    "mean_jerk",
+)
+
+
+@dataclass(frozen=True)
+class CrowdSpec:
+    """One crowd run. ``data``: a recording file (any format of ``socialnav.crowds``);
+    ``switch_distance`` (m): replayed people within it of the robot switch to navground HL
+    (``None``: they never react)."""
+
+    data: str
+    planner: str
+    robot: str
+    seed: int
+    switch_distance: float | None = None
+
+    @property
+    def scenario(self) -> str:
+        return Path(self.data).stem.removesuffix("_obsmat")
+
+    @property
+    def run_id(self) -> str:
+        react = "" if self.switch_distance is None else f"_hl{self.switch_distance:g}"
+        return f"{self.scenario}__{self.planner}__{self.robot}__crowd{react}__s{self.seed}"
+
+
+def parse_seeds(text: str) -> range:
+    """``A:B`` → ``range(A, B)``; a bare ``N`` → ``range(0, N)``. Raises ConfigurationError."""
+    try:
+        if ":" in text:
+            a, b = (int(v) for v in text.split(":", 1))
+        else:
+            a, b = 0, int(text)
+    except ValueError as exc:
+        raise ConfigurationError(f"--seeds must be N or A:B, got {text!r}") from exc
+    if b <= a or a < 0:
+        raise ConfigurationError(f"--seeds {text!r}: need 0 <= A < B")
+    return range(a, b)
+
+
+def crowd_specs(
+    data: list[str],
+    planners: list[str],
+    robots: list[str],
+    seeds: range,
+    switch_distance: float | None = None,
+) -> list[CrowdSpec]:
+    """Every planner (the first one, then the straight-line reference, then the others) × file
+    × robot × seed, in that order: an interrupted suite has the first planner complete."""
+    names = list(dict.fromkeys([*planners[:1], REFERENCE, *planners[1:]]))
+    return [
+        CrowdSpec(str(d), p, r, s, switch_distance)
+        for p in names
+        for d in data
+        for r in robots
+        for s in seeds
+    ]
+
+
+@lru_cache(maxsize=8)
+def cached_recording(path: str) -> Any:
+    """A recording loaded once per process (workers run many episodes of one file)."""
+    from socialnav.crowds import load_recording
+
+    return load_recording(path)
+
+
+def crowd_controller(planner: str, record: bool = False) -> Any:
+    """The controller of a crowd run: the planner's (``experiments.planners``), or the
+    ``straight_line`` reference controller. Raises ConfigurationError for an unknown name."""
+    from socialnav.sim.controller import make_controller
+
+    return make_controller(planner, record=record)
+
+
+def run_crowd_planner(spec: CrowdSpec, record_diagnostics: bool = False) -> Any:
+    """Run one crowd episode with its planner; the episode generator's task is in the meta."""
+    from socialnav.crowds.episodes import generate_episode
+    from socialnav.sim.controller import CONTROLLERS
+    from socialnav.sim.replay import CrowdTask, run_crowd_episode
+
+    recording = cached_recording(spec.data)
+    episode = generate_episode(recording, spec.seed)
+    task = CrowdTask(episode.t0, episode.start, episode.goal, episode.time_limit)
+    controller = crowd_controller(spec.planner, record_diagnostics)
+    result = run_crowd_episode(
+        recording,
+        task,
+        controller,
+        spec.robot,
+        seed=spec.seed,
+        record_diagnostics=record_diagnostics,
+        switch_distance=spec.switch_distance,
+    )
+    meta = result.record.meta
+    meta.update({"planner": spec.planner, "flow": episode.flow, "people_near": episode.people_near})
+    if CONTROLLERS.get(spec.planner).kind == "stack" and result.step_seconds:
+        ms = np.asarray(result.step_seconds) * 1e3
+        meta["planner_ms_median"] = float(np.median(ms))
+        meta["planner_ms_p95"] = float(np.percentile(ms, 95))
+        meta["planner_ms_steps"] = [round(float(v), 3) for v in ms]
+    return result
+
+
+def run_crowd_spec(
+    spec: CrowdSpec, out_dir: Path | None = None, figure: bool = False
+) -> dict[str, Any]:
+    """One crowd run's result row (metrics, success conditions, timing, error)."""
+    row: dict[str, Any] = {
+        **asdict(spec),
+        "scenario": spec.scenario,
+        "humans": "replayed",
+        "run_id": spec.run_id,
+        "error": "",
+    }
+    started = time.perf_counter()
+    try:
+        from socialnav.metrics import compute_metrics, evaluate_success
+
+        result = run_crowd_planner(spec)
+        record = result.record
+        row.update(
+            {f"metric.{k}": float(v) for k, v in compute_metrics(record, CROWD_METRICS).items()}
+        )
+        row.update({f"ok.{k}": bool(v) for k, v in evaluate_success(record).items()})
+        row.update(
+            family=record.family,
+            steps=record.num_steps,
+            t0=record.meta["t0"],
+            flow=record.meta["flow"],
+            people_near=record.meta["people_near"],
+            people_total=int(record.people_ids.shape[0]),
+            planner_ms_median=float(record.meta.get("planner_ms_median", np.nan)),
+            planner_ms_p95=float(record.meta.get("planner_ms_p95", np.nan)),
+            # every step's time, so the report pools percentiles over steps, not episodes
+            planner_ms_steps=record.meta.get("planner_ms_steps", []),
+        )
+        if out_dir is not None:
+            from socialnav.experiments.storage import save_episode
+
+            save_episode(record, out_dir / "runs" / spec.run_id)
+    except Exception as exc:  # an episode failure is data, not the end of the suite
+        row["error"] = f"{type(exc).__name__}: {exc}\n{traceback.format_exc(limit=4)}"
+    row["wall_time_s"] = time.perf_counter() - started
+    return row
+
+
+def run_crowd_single(
+    data: Path,
+    t0: float,
+    start: tuple[float, float],
+    goal: tuple[float, float],
+    planner: str,
+    robot: str,
+    *,
+    out: Path = Path("out"),
+    switch_distance: float | None = None,
+    time_limit: float = 60.0,
+) -> dict[str, Any]:
+    """``socialnav run --crowd``: one task in a recording, written to ``out`` (trajectory,
+    ``metrics.json``, ``topdown.png`` over the crowd's tracks). The robot starts facing the
+    goal. Raises :class:`ConfigurationError` for an unknown planner or robot or a bad file."""
+    import json
+    import math
+
+    from socialnav.crowds import load_recording
+    from socialnav.experiments.run import check_robot
+    from socialnav.experiments.storage import save_episode
+    from socialnav.metrics import compute_metrics, evaluate_success
+    from socialnav.sim.replay import CrowdTask, run_crowd_episode
+    from socialnav.viz.crowd import plot_crowd_episodes
+    from socialnav.viz.topdown import save_figure
+
+    controller = crowd_controller(planner)
+    check_robot(robot)
+    recording = load_recording(data)
+    yaw = math.atan2(goal[1] - start[1], goal[0] - start[0])
+    task = CrowdTask(float(t0), (*start, yaw), (*goal, yaw), time_limit)
+    result = run_crowd_episode(recording, task, controller, robot, switch_distance=switch_distance)
+    record = result.record
+    record.meta["planner"] = planner
+    out.mkdir(parents=True, exist_ok=True)
+    save_episode(record, out)
+    metrics = {
+        k: (None if np.isnan(v) else float(v))
+        for k, v in compute_metrics(record, CROWD_METRICS).items()
+    }
+    success = evaluate_success(record)
+    (out / "metrics.json").write_text(
+        json.dumps({**metrics, "success_conditions": success}, indent=1)
+    )
+    save_figure(plot_crowd_episodes([record], title=record.scenario), out / "topdown.png")
+    return {
+        "recording": str(data),
+        "t0": t0,
+        "planner": planner,
+        "robot": robot,
+        "steps": record.num_steps,
+        "people": int(record.people_ids.shape[0]),
+        "success": success["success"],
+        "wall_time_s": round(result.wall_time, 2),
+        "out": str(out),
+    }

@@ -1,0 +1,119 @@
+"""Crowd-navigation metrics in the conventions of SocNavBench (Biswas et al. 2022) and Francis
+et al., "Principles and Guidelines for Evaluating Social Robot Navigation Algorithms" (2023).
+
+Contacts are judged on the robot's footprint: the body-to-body gap (``series.footprint_gaps``)
+below zero. A *contact event* is a maximal run of consecutive samples in contact with one person.
+It is **active** when the robot was moving toward that person — at some sample of the event,
+either the step into it or the step out of it has a velocity component toward the person's
+centre above :data:`APPROACH_SPEED` — and **passive** otherwise (the robot stopped, or moving
+away while someone walks into it). Success on a crowd episode requires no active contact;
+passive contacts are reported beside it (see ``metrics.success``, family ``crowd``).
+
+Time near people uses the same body-to-body gap: Hall's intimate (0.45 m) and personal (1.2 m)
+distances, counted as ``dt`` per sample where the gap to the closest present person is below
+them (SocNavBench counts time inside personal space the same way).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import NDArray
+
+from socialnav.core.episode import EpisodeRecord
+from socialnav.core.success import CONDITIONS, ConditionCheck
+from socialnav.metrics.base import MetricFn, metric
+from socialnav.metrics.series import footprint_gaps
+from socialnav.social.proxemics import INTIMATE, PERSONAL
+
+#: speed (m/s) toward a person above which the robot counts as approaching them
+APPROACH_SPEED = 0.05
+FRANCIS = "Francis et al. 2023; SocNavBench (Biswas et al. 2022)"
+
+
+def contact_events(record: EpisodeRecord) -> list[tuple[int, int, int, bool]]:
+    """Contact events ``(person index, first sample, last sample, active)`` in time order."""
+    if record.people_ids.shape[0] == 0 or record.num_steps == 0:
+        return []
+    contact = footprint_gaps(record) < 0.0  # (T, K); absent people are +inf, never in contact
+    if not contact.any():
+        return []
+    xy = record.robot_xy
+    step = np.diff(xy, axis=0) / record.dt  # velocity over [t, t + dt], (T - 1, 2)
+    zero = np.zeros((1, 2))
+    into = np.vstack([zero, step])  # the step that arrived at sample t
+    out_of = np.vstack([step, zero])  # the step that leaves sample t
+    events = []
+    for k in np.flatnonzero(contact.any(axis=0)):
+        toward = record.people_positions[:, k] - xy
+        norm = np.linalg.norm(toward, axis=1, keepdims=True)
+        unit = np.divide(toward, norm, out=np.zeros_like(toward), where=norm > 1e-9)
+        approach = np.maximum((into * unit).sum(axis=1), (out_of * unit).sum(axis=1))
+        for first, last in _runs(contact[:, k]):
+            active = bool(np.nanmax(approach[first : last + 1]) > APPROACH_SPEED)
+            events.append((int(k), first, last, active))
+    events.sort(key=lambda e: e[1])
+    return events
+
+
+def _runs(mask: NDArray[np.bool_]) -> list[tuple[int, int]]:
+    """``(first, last)`` index pairs of the runs of True in a 1-D mask."""
+    padded = np.concatenate([[False], mask, [False]]).astype(np.int8)
+    edges = np.diff(padded)
+    return list(zip(np.flatnonzero(edges == 1), np.flatnonzero(edges == -1) - 1, strict=True))
+
+
+@metric("collisions_active", unit="1", direction="min", reference=FRANCIS)
+def collisions_active(record: EpisodeRecord) -> float:
+    """Number of active contact events: footprint contact with a person while the robot moves
+    toward them (> 0.05 m/s along the direction to the person's centre)."""
+    return float(sum(1 for *_, active in contact_events(record) if active))
+
+
+@metric("collisions_passive", unit="1", direction="min", reference=FRANCIS)
+def collisions_passive(record: EpisodeRecord) -> float:
+    """Number of passive contact events: footprint contact with a person while the robot is
+    stopped or moving away (the person walked into it)."""
+    return float(sum(1 for *_, active in contact_events(record) if not active))
+
+
+def _time_within(threshold: float) -> MetricFn:
+    def time_within(record: EpisodeRecord) -> float:
+        if record.people_ids.shape[0] == 0:
+            return 0.0
+        gap = footprint_gaps(record).min(axis=1)
+        return float(np.count_nonzero(gap < threshold) * record.dt)
+
+    time_within.__doc__ = (
+        f"dt × number of samples where the body-to-body gap (footprint to the person's disc) to "
+        f"the closest present person is below {threshold} m; 0 without people."
+    )
+    return time_within
+
+
+metric("time_within_0.45", unit="s", direction="min", reference=FRANCIS)(_time_within(INTIMATE))
+metric("time_within_1.2", unit="s", direction="min", reference=FRANCIS)(_time_within(PERSONAL))
+
+
+def _no_active(record: EpisodeRecord, tolerance: float) -> bool:
+    return not any(active for *_, active in contact_events(record))
+
+
+def _no_passive(record: EpisodeRecord, tolerance: float) -> bool:
+    return not any(not active for *_, active in contact_events(record))
+
+
+def _no_obstacle(record: EpisodeRecord, tolerance: float) -> bool:
+    return not bool(np.any(record.collision_obstacle))
+
+
+for _name, _check in {
+    "no_active_collision": ConditionCheck(
+        _no_active, description="no contact with a person while moving toward them"
+    ),
+    "no_passive_contact": ConditionCheck(
+        _no_passive, description="nobody walked into the stopped or retreating robot"
+    ),
+    "no_obstacle_collision": ConditionCheck(_no_obstacle, description="no contact with walls"),
+}.items():
+    if _name not in CONDITIONS:
+        CONDITIONS.add(_name, _check)

@@ -1,0 +1,249 @@
+"""The crowd suite's report: one section per recording, a table for every planner and robot,
+and a figure of a few episodes' paths over the crowd's tracks.
+
+Columns follow SocNavBench / Francis et al. (``socialnav.metrics.crowd``): success (goal
+reached, no active contact, no obstacle); the share of episodes with an active and with a
+passive contact; mean minimum body gap; mean time with the body gap under 0.45 m and 1.2 m;
+mean path length ratio and time to goal (over successful episodes); mean jerk; planner step
+time p50 and p95 pooled over every step of every episode (our planners only). The
+``straight_line`` reference shows how crowded the episodes are: its contact share is the bar
+that passive contacts are held against.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from socialnav.report.document import (
+    Document,
+    Heading,
+    Image,
+    Paragraph,
+    Table,
+    to_html,
+    to_markdown,
+)
+
+REFERENCE = "straight_line"
+#: episodes drawn per dataset figure
+FIGURE_EPISODES = 3
+HEADER = [
+    "planner",
+    "robot",
+    "n",
+    "success %",
+    "active %",
+    "passive %",
+    "contact %",
+    "min gap m",
+    "t<0.45 s",
+    "t<1.2 s",
+    "path ratio",
+    "time s",
+    "jerk m/s³",
+    "ms p50",
+    "ms p95",
+]
+
+
+def _values(rows: Sequence[dict[str, Any]], key: str) -> np.ndarray:
+    return np.array([float(r.get(key, math.nan)) for r in rows], dtype=float)
+
+
+def _nanmean(values: np.ndarray) -> float:
+    finite = values[np.isfinite(values)]
+    return float(finite.mean()) if finite.size else math.nan
+
+
+def summary(rows: Sequence[dict[str, Any]]) -> dict[str, float]:
+    """Aggregates of one planner × robot × dataset (see the module docstring)."""
+    ok = [r for r in rows if not r.get("error")]
+    n = len(ok)
+    success = _values(ok, "metric.success")
+    done = success > 0.5
+    steps = [v for r in ok for v in (r.get("planner_ms_steps") or [])]
+    return {
+        "n": n,
+        "success": 100.0 * float(success.mean()) if n else math.nan,
+        "active": 100.0 * float((_values(ok, "metric.collisions_active") > 0).mean())
+        if n
+        else math.nan,
+        "passive": 100.0 * float((_values(ok, "metric.collisions_passive") > 0).mean())
+        if n
+        else math.nan,
+        "any_contact": 100.0
+        * float(
+            (
+                (_values(ok, "metric.collisions_active") + _values(ok, "metric.collisions_passive"))
+                > 0
+            ).mean()
+        )
+        if n
+        else math.nan,
+        "min_gap": _nanmean(_values(ok, "metric.min_distance_footprint")),
+        "t045": _nanmean(_values(ok, "metric.time_within_0.45")),
+        "t12": _nanmean(_values(ok, "metric.time_within_1.2")),
+        "path_ratio": _nanmean(_values(ok, "metric.path_length_ratio")[done]),
+        "time": _nanmean(_values(ok, "metric.time_to_goal")[done]),
+        "jerk": _nanmean(_values(ok, "metric.mean_jerk")),
+        "ms_p50": float(np.percentile(steps, 50)) if steps else math.nan,
+        "ms_p95": float(np.percentile(steps, 95)) if steps else math.nan,
+    }
+
+
+def _order(planners: set[str]) -> list[str]:
+    try:
+        from socialnav.experiments.planners import planner_names
+
+        known = [p for p in planner_names() if p in planners and p != REFERENCE]
+    except ImportError:  # pragma: no cover - the experiments layer is always there
+        known = []
+    rest = sorted(planners - set(known) - {REFERENCE})
+    return known + rest + ([REFERENCE] if REFERENCE in planners else [])
+
+
+def dataset_table(
+    rows: Sequence[dict[str, Any]],
+) -> tuple[list[list[Any]], dict[tuple[str, str], dict[str, float]]]:
+    """Table rows and the summaries by ``(planner, robot)`` of one dataset."""
+    table, by_key = [], {}
+    for robot in sorted({r["robot"] for r in rows}):
+        for planner in _order({r["planner"] for r in rows}):
+            sel = [r for r in rows if r["planner"] == planner and r["robot"] == robot]
+            if not sel:
+                continue
+            s = summary(sel)
+            by_key[(planner, robot)] = s
+            table.append(
+                [
+                    planner,
+                    robot,
+                    int(s["n"]),
+                    s["success"],
+                    s["active"],
+                    s["passive"],
+                    s["any_contact"],
+                    s["min_gap"],
+                    s["t045"],
+                    s["t12"],
+                    s["path_ratio"],
+                    s["time"],
+                    s["jerk"],
+                    s["ms_p50"],
+                    s["ms_p95"],
+                ]
+            )
+    return table, by_key
+
+
+def targets(by_key: dict[tuple[str, str], dict[str, float]], planner: str = "paccet") -> list[str]:
+    """The issue's targets for ``planner`` on one dataset, one line per robot, met or missed."""
+    lines = []
+    for (name, robot), s in sorted(by_key.items()):
+        if name != planner:
+            continue
+        ref = by_key.get((REFERENCE, robot))
+        others = [v for (p, r), v in by_key.items() if r == robot and p not in (planner, REFERENCE)]
+        checks = {
+            "success ≥ 95 %": s["success"] >= 95.0,
+            "active contacts 0": s["active"] == 0.0,
+            "passive ≤ ⅓ of straight-line contacts": ref is not None
+            and s["passive"] <= ref["any_contact"] / 3.0,
+            "time within 1.2 m below every baseline": bool(others)
+            and all(s["t12"] < o["t12"] for o in others),
+            "path ratio ≤ 1.25": s["path_ratio"] <= 1.25,
+            "step p95 ≤ 50 ms": s["ms_p95"] <= 50.0,
+        }
+        met = [k for k, v in checks.items() if v]
+        missed = [k for k, v in checks.items() if not v]
+        lines.append(
+            f"`{planner}` on {robot}: met — {', '.join(met) or 'none'}; "
+            f"missed — {', '.join(missed) or 'none'}."
+        )
+    return lines
+
+
+def _figure(rows: Sequence[dict[str, Any]], out_dir: Path, name: str) -> str | None:
+    """A few episodes of paccet (else the first planner) on the first robot, with the
+    straight-line reference of the same episodes."""
+    from socialnav.experiments.storage import load_episode
+    from socialnav.viz.crowd import plot_crowd_episodes
+    from socialnav.viz.topdown import save_figure
+
+    ok = [r for r in rows if not r.get("error")]
+    if not ok:
+        return None
+    planners = _order({r["planner"] for r in ok})
+    main = "paccet" if "paccet" in planners else planners[0]
+    robot = sorted({r["robot"] for r in ok})[0]
+    seeds = sorted({r["seed"] for r in ok if r["planner"] == main and r["robot"] == robot})
+    records = []
+    for seed in seeds[:FIGURE_EPISODES]:
+        for planner in dict.fromkeys([main, REFERENCE]):
+            match = [
+                r for r in ok if (r["planner"], r["robot"], r["seed"]) == (planner, robot, seed)
+            ]
+            folder = out_dir / "runs" / match[0]["run_id"] if match else None
+            if folder is not None and folder.is_dir():
+                records.append(load_episode(folder))
+    if not records:
+        return None
+    path = out_dir / "figures" / f"crowd_{name}.png"
+    save_figure(
+        plot_crowd_episodes(records, title=f"{name}: {main} and {REFERENCE}", columns=2), path
+    )
+    return str(path.relative_to(out_dir))
+
+
+def build_crowd_report(rows: Sequence[dict[str, Any]], out_dir: Path) -> Path:
+    """Write ``report.md`` and ``report.html`` of a crowd suite into ``out_dir``."""
+    doc = Document("socialnav: planners in recorded crowds")
+    datasets = sorted({r["scenario"] for r in rows})
+    seeds = sorted({int(r["seed"]) for r in rows})
+    doc.add(
+        Paragraph(
+            f"{len(rows)} runs over {len(datasets)} recordings ({', '.join(datasets)}), seeds "
+            f"{seeds[0] if seeds else '-'}–{seeds[-1] if seeds else '-'}; people replayed from the "
+            "recordings (they do not react to the robot), 0.1 s control period. Reproduce with "
+            "`socialnav compare --suite crowds --data FILE … --seeds A:B`. Seeds below 10,000 are "
+            "for tuning; report seeds 10,000 and up."
+        )
+    )
+    for name in datasets:
+        sel = [r for r in rows if r["scenario"] == name]
+        doc.add(Heading(f"Recording {name}"))
+        flows = {r["seed"]: r["flow"] for r in sel if r.get("flow")}
+        along = sum(1 for f in flows.values() if f == "along")
+        across = sum(1 for f in flows.values() if f == "across")
+        doc.add(
+            Paragraph(
+                f"{len(flows)} episodes (each run with every robot): {along} along the main "
+                f"flow, {across} across it. Contact % = episodes with any contact (active or "
+                "passive); path ratio and time over successful episodes; ms = planner step "
+                "time pooled over every step (our planners only)."
+            )
+        )
+        table, by_key = dataset_table(sel)
+        doc.add(Table(HEADER, table, caption=f"{name}: means over episodes"))
+        for line in targets(by_key):
+            doc.add(Paragraph(line))
+        figure = _figure(sel, out_dir, name)
+        if figure:
+            doc.add(Image(figure, f"{name} paths"))
+    errors = [r for r in rows if r.get("error")]
+    if errors:
+        doc.add(Heading("Errors"))
+        doc.add(
+            Table(
+                ["run", "error"], [[r["run_id"], str(r["error"]).splitlines()[0]] for r in errors]
+            )
+        )
+    out_dir.mkdir(parents=True, exist_ok=True)
+    (out_dir / "report.md").write_text(to_markdown(doc))
+    (out_dir / "report.html").write_text(to_html(doc))
+    return out_dir / "report.md"

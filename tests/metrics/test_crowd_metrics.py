@@ -1,0 +1,73 @@
+"""Crowd metrics: active vs passive contacts, time near people, and people present for part of
+an episode (NaN where absent) — analytic records."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from socialnav.metrics import compute_metrics, evaluate_success
+from socialnav.metrics.crowd import contact_events
+
+# SQUARE footprint (0.2 m half side) and person radius 0.25: contact below 0.45 m centre-to-centre
+# along an axis.
+
+
+def test_robot_driving_into_a_standing_person_is_active(make_record, seg) -> None:
+    robot = seg((0.0, 0.0), (2.0, 0.0), 20)  # 1 m/s toward +x
+    r = make_record(robot, people=[[1.5, 0.0]], family="crowd", goal=[2.0, 0.0, 0.0])
+    events = contact_events(r)
+    assert len(events) == 1 and events[0][3] is True
+    m = compute_metrics(r, ["collisions_active", "collisions_passive"])
+    assert (m["collisions_active"], m["collisions_passive"]) == (1.0, 0.0)
+    assert not evaluate_success(r)["success"]
+
+
+def test_person_walking_into_a_stopped_robot_is_passive(make_record, seg) -> None:
+    robot = np.zeros((21, 2))
+    person = seg((2.0, 0.0), (0.0, 0.0), 20)[:, None, :]
+    r = make_record(robot, people=person, family="crowd", goal=[0.0, 0.0, 0.0])
+    m = compute_metrics(r, ["collisions_active", "collisions_passive"])
+    assert (m["collisions_active"], m["collisions_passive"]) == (0.0, 1.0)
+    ok = evaluate_success(r)
+    assert ok["success"] and not ok["no_passive_contact"]  # passive contacts are reported only
+
+
+def test_robot_backing_away_from_someone_walking_into_it_is_passive(make_record, seg) -> None:
+    robot = seg((0.0, 0.0), (-0.5, 0.0), 20)  # 0.25 m/s away from the person
+    person = seg((1.5, 0.0), (-0.3, 0.0), 20)[:, None, :]
+    r = make_record(robot, people=person, family="crowd")
+    assert [e[3] for e in contact_events(r)] == [False]
+
+
+def test_time_within_counts_samples_under_the_body_gap(make_record) -> None:
+    # Robot still; person at centre distances 3.0, 1.5, 1.0, 0.8 m: body gaps 2.55, 1.05, 0.55,
+    # 0.35 m → 3 samples under 1.2 m, 1 under 0.45 m.
+    robot = np.zeros((4, 2))
+    person = np.array([[3.0, 0.0], [1.5, 0.0], [1.0, 0.0], [0.8, 0.0]])[:, None, :]
+    r = make_record(robot, people=person, family="crowd")
+    m = compute_metrics(r, ["time_within_1.2", "time_within_0.45", "min_distance_footprint"])
+    assert m["time_within_1.2"] == pytest.approx(0.3)
+    assert m["time_within_0.45"] == pytest.approx(0.1)
+    assert m["min_distance_footprint"] == pytest.approx(0.35)
+
+
+def test_absent_people_are_ignored(make_record) -> None:
+    # The person is at 0.5 m only while absent (NaN there): no contact, no time near, and the
+    # minimum distance is the one while present.
+    robot = np.zeros((4, 2))
+    person = np.array([[3.0, 0.0], [np.nan, np.nan], [np.nan, np.nan], [2.0, 0.0]])[:, None, :]
+    r = make_record(robot, people=person, people_velocities=0.0 * person, family="crowd")
+    assert r.people_present[:, 0].tolist() == [True, False, False, True]
+    m = compute_metrics(r)
+    assert m["time_within_1.2"] == 0.0 and m["collisions_passive"] == 0.0
+    assert m["min_distance_center"] == pytest.approx(2.0)
+    assert m["min_distance_footprint"] == pytest.approx(1.55)
+
+
+def test_nan_where_a_person_is_present_is_refused(make_record) -> None:
+    robot = np.zeros((2, 2))
+    r = make_record(robot, people=np.array([[3.0, 0.0], [2.0, 0.0]])[:, None, :])
+    r.people_velocities[1, 0] = np.nan
+    with pytest.raises(ValueError, match=r"people_velocities .* where the person is present"):
+        compute_metrics(r)
