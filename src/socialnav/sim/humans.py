@@ -71,7 +71,7 @@ class TrackHuman(core.Behavior):
         f = s - k
         return (1.0 - f) * self.points[k] + f * self.points[k + 1]
 
-    def compute_cmd_internal(self, time_step: float) -> core.Twist2:
+    def compute_cmd_internal(self, time_step: SupportsFloat) -> core.Twist2:
         dt = float(time_step)
         if dt <= 0.0:
             return core.Twist2((0.0, 0.0), 0.0, frame=core.Frame.absolute)

@@ -50,4 +50,4 @@ def draw_group(
     for k, a in enumerate(angles):
         p = center + radius * np.array([math.cos(a), math.sin(a)])
         people.append(PersonSpec(id=first_id + k, position=xy(p), yaw=r3(a + math.pi)))
-    return GroupSpec(members=[p.id for p in people], mode=mode), people, radius  # type: ignore[arg-type]
+    return GroupSpec(members=[p.id for p in people], mode=mode), people, radius

@@ -97,7 +97,7 @@ def uniform(rng: np.random.Generator, lo: float, hi: float) -> float:
     return float(rng.uniform(lo, hi))
 
 
-def face(src: Sequence[float], dst: Sequence[float]) -> float:
+def face(src: Sequence[float] | np.ndarray, dst: Sequence[float] | np.ndarray) -> float:
     return float(math.atan2(dst[1] - src[1], dst[0] - src[0]))
 
 
@@ -106,7 +106,7 @@ def r3(x: float) -> float:
     return round(float(x), 3)
 
 
-def xy(p: Sequence[float]) -> tuple[float, float]:
+def xy(p: Sequence[float] | np.ndarray) -> tuple[float, float]:
     return (r3(p[0]), r3(p[1]))
 
 

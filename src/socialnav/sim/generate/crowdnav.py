@@ -84,6 +84,8 @@ def orca_tracks(pairs: list[tuple[np.ndarray, np.ndarray]], seed: int) -> list[n
     agents = []
     for k, (start, goal) in enumerate(pairs):
         behavior = core.Behavior.make_type("ORCA")
+        if behavior is None:  # pragma: no cover - ORCA is navground's own
+            raise RuntimeError("navground has no ORCA behaviour")
         behavior.optimal_speed = V_PREF
         behavior.max_speed = V_PREF
         behavior.radius = HUMAN_RADIUS
@@ -145,7 +147,7 @@ def _draw(rng: np.random.Generator, name: str, visible: bool) -> Scenario:
         gap = min(np.linalg.norm(np.asarray(p.position) - START) - r - p.radius for p in people)
         if gap <= 0.05:
             raise Infeasible("a person starts on the robot")
-        facts[robot_name] = {"min_start_gap": r3(gap)}
+        facts[robot_name] = {"min_start_gap": r3(float(gap))}
     return Scenario(
         name=name,
         family="crowdnav",

@@ -9,6 +9,8 @@ generated suite's tolerance. Feasibility: as for the structure alone (the walker
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 
 from socialnav.core.geometry import point_segment_distance
@@ -38,7 +40,7 @@ SPEED = (0.3, 1.5)
 def draw(rng: np.random.Generator, name: str) -> Scenario:
     width, height = draw_room(rng)
     use_group = rng.random() < 0.5
-    extra: dict = {}
+    extra: dict[str, Any] = {}
     if use_group:
         margin = RADIUS[1] + 2.0
         center = np.array(
@@ -49,7 +51,7 @@ def draw(rng: np.random.Generator, name: str) -> Scenario:
         extra["groups"] = [group]
         avoid = [(center, radius + 3.0)]
         walls = room_walls(width, height)
-        mapspec: dict = {"walls": walls}
+        mapspec: dict[str, Any] = {"walls": walls}
     else:
         desk, queue, members, goal_xy = queue_gen.draw_queue(rng, width, height)
         extra["queues"] = [queue]
