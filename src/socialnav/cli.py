@@ -71,6 +71,9 @@ def run(
     switch_distance: Annotated[
         float | None, typer.Option(help="--crowd: people this close (m) switch to navground HL.")
     ] = None,
+    context: Annotated[
+        str, typer.Option(help="given (the scenario's structures) or detected (noisy tracks).")
+    ] = "given",
 ) -> None:
     """Run one scenario (or a recorded crowd) with one planner; write trajectories, metrics and
     a figure."""
@@ -85,7 +88,15 @@ def run(
         return
     try:
         summary = run_single(
-            scenario, planner, robot, seed=seed, humans=humans, out=out, fmt=fmt, video=video
+            scenario,
+            planner,
+            robot,
+            seed=seed,
+            humans=humans,
+            out=out,
+            fmt=fmt,
+            video=video,
+            context=context,
         )
     except ConfigurationError as exc:
         _fail(str(exc))
@@ -230,6 +241,13 @@ def compare(
         float | None,
         typer.Option(help="--suite crowds: replayed people this close (m) switch to HL."),
     ] = None,
+    context: Annotated[
+        str,
+        typer.Option(
+            help="given (the scenario's groups, queues, viewers), detected (noisy tracks and "
+            "the context estimator), or both (side by side in the report)."
+        ),
+    ] = "given",
 ) -> None:
     """The main job: every scenario × planner × robot, into a Markdown/HTML report with figures."""
     from socialnav.core.errors import ConfigurationError
@@ -242,6 +260,9 @@ def compare(
 
     if suite not in ("paper", "reactive", "randomized", "crowds", "generated"):
         _fail(f"unknown suite {suite!r}; use paper, reactive, randomized, crowds or generated")
+    contexts = {"given": ("given",), "detected": ("detected",), "both": ("given", "detected")}
+    if context not in contexts:
+        _fail(f"unknown context {context!r}; use given, detected or both")
     try:
         planner_names = _split(planners) or compared_planners()
         for name in planner_names:
@@ -271,6 +292,7 @@ def compare(
             planner_names,
             _split(robots),
             None if seeds is None else parse_seeds(seeds),
+            contexts=contexts[context],
         )
     except ConfigurationError as exc:
         _fail(str(exc))
@@ -279,6 +301,28 @@ def compare(
     report = build_report(rows, out, suite=suite)
     failed = sum(1 for r in rows if r.get("error"))
     typer.echo(f"{len(rows)} runs ({failed} errors) → {report}")
+
+
+@app.command()
+def detect(
+    source: Annotated[
+        str, typer.Argument(help="Episode folder (from run/compare), built-in scenario or YAML.")
+    ],
+    out: Annotated[Path, typer.Option(help="Output folder.")] = Path("detect"),
+    noise: Annotated[str, typer.Option(help="Perception noise: default or none.")] = "default",
+    seed: Annotated[int, typer.Option(help="Seed of the perception noise.")] = 0,
+) -> None:
+    """Estimate the social context over a recording or a scenario: structures.parquet and a
+    picture."""
+    from socialnav.core.errors import ConfigurationError
+    from socialnav.experiments.detect import detect_file
+
+    try:
+        summary = detect_file(source, out, noise=noise, seed=seed)
+    except ConfigurationError as exc:
+        _fail(str(exc))
+        return
+    typer.echo(json.dumps(summary, indent=1))
 
 
 @app.command()

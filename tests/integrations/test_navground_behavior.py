@@ -326,3 +326,13 @@ def test_every_planner_of_ours_runs_by_name_from_yaml() -> None:
         assert planner in CONTROLLERS
         run = _run(_walls_and_point((2.0, 0.0), steps=2, planner=planner))
         assert run.world.agents[0].behavior.controller is not None, planner
+
+
+def test_keywords_bound_by_a_registry_entry_are_not_options() -> None:
+    # straight_line is go_to_goal with its gain bound: the gain belongs to go_to_goal alone
+    from socialnav.integrations.planner_options import planner_options
+
+    options = planner_options()
+    assert options["gain"].planners == ("go_to_goal",)
+    assert options["gain"].default == 1.0
+    assert "straight_line" in options["angular_gain"].planners

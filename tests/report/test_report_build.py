@@ -227,3 +227,23 @@ def test_efficiency_statement_names_faster_and_shorter_baselines() -> None:
     assert "shorter paths: traditional (1.00 vs 1.09)" in text
     assert "less time to the goal: traditional (20.00 vs 23.50), hl (18.70 vs 23.50)" in text
     assert efficiency_statement([["paccet", 1.0, 1.0, 1.0, 10.0, 1.0]]).startswith("No planner")
+
+
+def test_build_report_puts_given_and_detected_side_by_side(tmp_path: Path) -> None:
+    rows = table1_rows(1.5, 5.25, 12.0, 0)
+    detected = [
+        {
+            **r,
+            "context": "detected",
+            "run_id": r["run_id"] + "__detected",
+            "ok.success": r["planner"] == "paccet" and r["seed"] != 0,
+            "estimator_ms_median": 0.5,
+        }
+        for r in rows
+    ]
+    text = build_report(rows + detected, tmp_path).read_text()
+    assert "## Social context: given or detected" in text
+    assert "| paccet | 5/5 → 4/5 | 5/5 → 4/5 | 0.50 |" in text
+    assert "| traditional | 0/5 → 0/5 | 0/5 → 0/5 | 0.50 |" in text
+    # every other section reports the given runs only
+    assert "| paccet | 5/5 | 5/5 |" in text

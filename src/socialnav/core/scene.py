@@ -38,16 +38,29 @@ class Person:
             raise InvalidInputError(f"person {self.id}: radius must be positive")
 
 
+#: ``join`` / ``lead``: a standing conversation (O-formation) the robot joins or leads;
+#: ``walking``: people moving together — an obstacle to keep whole, never a join target.
+GROUP_MODES = ("join", "lead", "walking")
+
+
 @dataclass(frozen=True)
 class Group:
-    """People standing in an O-formation. ``mode`` is ``"join"`` or ``"lead"`` (the robot leads)."""
+    """People in a group. ``mode``: ``"join"`` or ``"lead"`` (an O-formation the robot joins or
+    leads) or ``"walking"`` (people moving together; see :data:`GROUP_MODES`)."""
 
     member_ids: tuple[int, ...]
     mode: str = "join"
 
     def __post_init__(self) -> None:
-        if self.mode not in ("join", "lead"):
-            raise InvalidInputError(f"group mode must be 'join' or 'lead', got {self.mode!r}")
+        if self.mode not in GROUP_MODES:
+            raise InvalidInputError(
+                f"group mode must be one of {', '.join(GROUP_MODES)}, got {self.mode!r}"
+            )
+
+    @property
+    def is_walking(self) -> bool:
+        """True for people moving together (``mode == "walking"``)."""
+        return self.mode == "walking"
 
 
 @dataclass(frozen=True)

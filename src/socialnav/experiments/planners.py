@@ -70,6 +70,7 @@ def run_planner_episode(spec: EpisodeSpec, record_diagnostics: bool = False) -> 
         humans=spec.humans,
         record_diagnostics=record_diagnostics,
         vary_group_sizes=spec.randomize,
+        context=getattr(spec, "context", "given"),
     )
     result.record.meta.update({"planner": spec.planner, "robot": spec.robot, "seed": spec.seed})
     result.record.meta["planner_ms_median"] = result.step_ms_median

@@ -78,8 +78,10 @@ def run_single(
     out: Path = Path("out"),
     fmt: str = "parquet",
     video: str = "none",
+    context: str = "given",
 ) -> dict[str, Any]:
-    """Run, measure and draw one episode into ``out``; returns a summary dict."""
+    """Run, measure and draw one episode into ``out``; returns a summary dict. ``context``:
+    ``given`` or ``detected`` (see :func:`socialnav.sim.runner.run_episode`)."""
     import pyarrow as pa
     import pyarrow.parquet as pq
 
@@ -94,7 +96,11 @@ def run_single(
         raise ConfigurationError(f"unknown human model {humans!r}; use scripted or reactive")
     if video not in ("none", "gif", "mp4"):
         raise ConfigurationError(f"unknown video format {video!r}; use none, gif or mp4")
-    spec = EpisodeSpec(scenario=scenario, planner=planner, robot=robot, seed=seed, humans=humans)
+    if context not in ("given", "detected"):
+        raise ConfigurationError(f"unknown context {context!r}; use given or detected")
+    spec = EpisodeSpec(
+        scenario=scenario, planner=planner, robot=robot, seed=seed, humans=humans, context=context
+    )
     result = run_planner_episode(spec, record_diagnostics=True)
     record = result.record
     out.mkdir(parents=True, exist_ok=True)

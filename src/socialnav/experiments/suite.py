@@ -7,6 +7,7 @@ never the end of the suite. ``run_suite`` resumes: rows already in ``results.par
 
 from __future__ import annotations
 
+import itertools
 import time
 import traceback
 from collections.abc import Callable, Iterable, Sequence
@@ -38,13 +39,16 @@ class EpisodeSpec:
     seed: int = 0
     humans: str = "scripted"
     randomize: bool = False
+    context: str = "given"
 
     @property
     def run_id(self) -> str:
         name = self.scenario.replace(GENERATED_PREFIX, "gen_")
         name = Path(name).stem if not self.scenario.startswith(GENERATED_PREFIX) else name
         suffix = "_rand" if self.randomize else ""
-        return f"{name}__{self.planner}__{self.robot}__{self.humans}{suffix}__s{self.seed}"
+        # the given context keeps its historical ids, so earlier results still resume
+        ctx = "" if self.context == "given" else f"__{self.context}"
+        return f"{name}__{self.planner}__{self.robot}__{self.humans}{suffix}{ctx}__s{self.seed}"
 
 
 def suite_specs(
@@ -53,8 +57,10 @@ def suite_specs(
     planners: Sequence[str],
     robots: Sequence[str],
     seeds: int | range | None = None,
+    contexts: Sequence[str] = ("given",),
 ) -> list[EpisodeSpec]:
-    """The episodes of a named suite.
+    """The episodes of a named suite, once per social ``contexts`` entry (``given`` and/or
+    ``detected``, see :func:`socialnav.sim.runner.run_episode`).
 
     - ``paper``: every scenario once (seed 0) and ``hallway_passing`` with seeds 0–4 (Table 1).
     - ``reactive``: the same runs with people driven by navground ``HL`` who react to the robot.
@@ -73,7 +79,7 @@ def suite_specs(
             run_seeds = chosen or range(1)
         for planner in planners:
             for robot in robots:
-                for seed in run_seeds:
+                for seed, context in itertools.product(run_seeds, contexts):
                     specs.append(
                         EpisodeSpec(
                             scenario=scenario,
@@ -82,6 +88,7 @@ def suite_specs(
                             seed=seed,
                             humans="reactive" if suite == "reactive" else "scripted",
                             randomize=suite == "randomized",
+                            context=context,
                         )
                     )
     return specs
@@ -135,6 +142,7 @@ def run_spec(
         row["family"] = record.family
         row["steps"] = record.num_steps
         row["planner_ms_median"] = float(record.meta.get("planner_ms_median", np.nan))
+        row["estimator_ms_median"] = float(record.meta.get("estimator_ms_median", np.nan))
         if out_dir is not None:
             from socialnav.experiments.storage import save_episode
 

@@ -78,9 +78,12 @@ def _factory_options(factory: ControllerFactory) -> list[tuple[str, type, Any, s
     target = factory.func if hasattr(factory, "func") else factory  # functools.partial
     init = target.__init__ if isinstance(target, type) else target  # type: ignore[misc]
     hints = typing.get_type_hints(init)
+    # keywords a registry entry binds (``partial(GoToGoalController, gain=...)``) define that
+    # entry, like its required arguments: they are not options a user sets
+    bound = set(getattr(factory, "keywords", {}) or {})
     out: list[tuple[str, type, Any, str | None]] = []
     for name, param in inspect.signature(factory).parameters.items():
-        if param.default is inspect.Parameter.empty or name == "record":
+        if param.default is inspect.Parameter.empty or name == "record" or name in bound:
             continue  # required arguments are bound by the registry; record is for the runner
         annotation = hints.get(name)
         cls = _dataclass_of(annotation)

@@ -92,11 +92,11 @@ PRESETS: Registry[PlannerPreset] = Registry("planner preset")
 
 
 def has_social_goal(social: SocialContext) -> bool:
-    """Scenes whose structure may yield a social goal (queue, group, artwork with a viewer, a
-    structure of a registered kind)."""
+    """Scenes whose structure may yield a social goal (queue, standing group, artwork with a
+    viewer, a structure of a registered kind); walking groups never do."""
     return bool(
         social.queues
-        or social.groups
+        or any(not g.is_walking for g in social.groups)
         or social.structures
         or any(a.viewer_ids for a in social.artworks)
     )

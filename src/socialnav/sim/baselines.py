@@ -92,8 +92,13 @@ class NavgroundController:
         self._target = np.zeros(3)
         self._dt = 0.1
 
-    def reset(self, scenario: Scenario, robot: RobotModel) -> None:
-        target = resolve_target(scenario, scenario.social_context(scenario.start))
+    def reset(
+        self, scenario: Scenario, robot: RobotModel, social: SocialContext | None = None
+    ) -> None:
+        """Plan the waypoints to the social goal of ``social`` (what the robot sees at the
+        start; default the scenario's own context)."""
+        seen = scenario.social_context(scenario.start) if social is None else social
+        target = resolve_target(scenario, seen)
         self._target = np.asarray(target.pose, dtype=float)
         self._waypoints = [] if target.waypoint is None else [target.waypoint]
         self._waypoints.append(self._target[:2])

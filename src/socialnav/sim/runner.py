@@ -25,6 +25,7 @@ from socialnav.core.episode import EpisodeRecord
 from socialnav.core.errors import ConfigurationError
 from socialnav.core.geometry import FloatArray
 from socialnav.core.robot import ROBOT_MODELS, RobotModel
+from socialnav.core.scene import SocialContext
 from socialnav.planner.record import EvaluationRecord
 from socialnav.sim import baselines as _baselines  # noqa: F401  (registers navground, go_to_goal)
 from socialnav.sim import stack as _stack  # noqa: F401  (registers the planner presets)
@@ -78,6 +79,76 @@ def _controller(
     raise ConfigurationError(f"not a controller, controller name or factory: {spec!r}")
 
 
+CONTEXTS = ("given", "detected")
+#: Detected context: the robot watches the scene this long (s) before it starts to move, so the
+#: estimator's hysteresis has settled (a robot is switched on before it is sent somewhere).
+WARMUP = 1.0
+
+
+class DetectedContext:
+    """The robot's view in ``--context detected``: true people → :class:`PerceptionModel`
+    tracks → :class:`~socialnav.social.perception.ContextEstimator` → :class:`SocialContext`.
+
+    The map knowledge is what a semantic map holds: the artworks and the queues' service points
+    (desks) of the scenario — never who stands where or with whom. Detected F-formations get
+    the mode of the scenario's groups (``lead`` when the task is to lead a group): the mode is
+    the robot's task, not something to perceive.
+    """
+
+    def __init__(self, scn: Scenario, seed: int, noise: Any = None) -> None:
+        from socialnav.core.scene import Artwork
+        from socialnav.sim.perception import DEFAULT_PERCEPTION, PerceptionModel
+        from socialnav.social.perception import ContextEstimator, EstimatorParams, MapKnowledge
+
+        knowledge = MapKnowledge(
+            artworks=tuple(
+                Artwork(tuple(a.center), a.width, a.facing)  # type: ignore[arg-type]
+                for a in scn.artworks
+            ),
+            service_points=np.array([q.service_point for q in scn.queues], dtype=float),
+        )
+        mode = "lead" if any(g.mode == "lead" for g in scn.groups) else "join"
+        self.estimator = ContextEstimator(knowledge, EstimatorParams(group_mode=mode))
+        # a seed stream of its own, so perception noise never shifts the scenario's jitter
+        self.perception = PerceptionModel(
+            DEFAULT_PERCEPTION if noise is None else noise, scn.bounds(), seed=10_007 + seed
+        )
+        self.ids = np.array([p.id for p in scn.people], dtype=np.int64)
+        self.radii = np.array([p.radius for p in scn.people], dtype=float)
+        self.seconds: list[float] = []
+
+    def observe(self, t: float, pos: FloatArray, vel: FloatArray, yaw: FloatArray) -> SocialContext:
+        tracks = self.perception.observe(self.ids, pos, vel, yaw, self.radii)
+        started = _time.perf_counter()  # the estimator runs on the robot; the sensor model not
+        context = self.estimator.update(t, tracks).context
+        self.seconds.append(_time.perf_counter() - started)
+        return context
+
+    def warm_up(self, social0: SocialContext, dt: float) -> SocialContext:
+        pos, vel, yaw = social0.positions(), social0.velocities(), social0.yaws()
+        steps = max(1, round(WARMUP / dt))
+        context = social0
+        for k in range(steps):
+            t = (k - steps) * dt
+            # walkers are seen where they were: their recent past, at constant velocity
+            context = self.observe(t, pos + vel * t, vel, yaw)
+        return context
+
+
+def _reset(ctrl: Controller, scn: Scenario, model: RobotModel, social: SocialContext) -> None:
+    """Reset, handing the initial context to controllers that accept one."""
+    import inspect
+
+    try:
+        takes_social = "social" in inspect.signature(ctrl.reset).parameters
+    except (TypeError, ValueError):
+        takes_social = False
+    if takes_social:
+        ctrl.reset(scn, model, social=social)  # type: ignore[call-arg]
+    else:
+        ctrl.reset(scn, model)
+
+
 def run_episode(
     scenario: Scenario | str,
     controller: Controller | str | ControllerFactory,
@@ -89,6 +160,8 @@ def run_episode(
     controller_params: dict[str, Any] | None = None,
     reactive_behavior: str = "HL",
     vary_group_sizes: bool = False,
+    context: str = "given",
+    perception: Any = None,
 ) -> EpisodeResult:
     """Simulate one episode and record it.
 
@@ -100,7 +173,18 @@ def run_episode(
     given goal, else the scenario's (:func:`~socialnav.sim.target.resolve_target`); the record's
     ``meta["target_source"]`` says which. ``diagnostics`` (when
     ``record_diagnostics``) holds each sample's evaluation record or ``None``.
+
+    ``context``: ``"given"`` (the scenario's groups, queues and viewers, exact people) or
+    ``"detected"`` (the controller sees only noisy tracks from
+    :class:`~socialnav.sim.perception.PerceptionModel` with ``perception`` noise, default
+    :data:`~socialnav.sim.perception.DEFAULT_PERCEPTION`, and the structures the estimator finds
+    in them; see :class:`DetectedContext`). With the context detected, success is measured at
+    the social goal of the *true* context seen from the robot's final pose (the controller's own
+    target may be wrong: that is what is measured), ``meta["target_source"]`` =
+    ``"true context"``.
     """
+    if context not in CONTEXTS:
+        raise ConfigurationError(f"unknown context {context!r}; use given or detected")
     wall_start = _time.perf_counter()
     scn = load_scenario(scenario) if isinstance(scenario, str) else scenario
     scn = scn.randomize(seed, vary_group_sizes=vary_group_sizes)
@@ -110,9 +194,11 @@ def run_episode(
     model = _robot_model(robot)
     social0 = scn.social_context(scn.start)
     target = resolve_target(scn, social0)
+    detector = DetectedContext(scn, seed, perception) if context == "detected" else None
+    seen0 = social0 if detector is None else detector.warm_up(social0, float(scn.control_period))
 
     ctrl, planner_name = _controller(controller, controller_params)
-    ctrl.reset(scn, model)
+    _reset(ctrl, scn, model, seen0)
     ctrl_behavior = ControllerBehavior()
     ctrl_behavior.controller = ctrl
     ctrl_behavior.robot_model = model
@@ -135,11 +221,16 @@ def run_episode(
         t = k * dt
         pose = pose_of(simw.robot)
         pos, vel, yaw = simw.people_state()
-        social = context_at(social0, pos, vel, yaw)
+        if detector is None:
+            social = context_at(social0, pos, vel, yaw)
+        else:
+            social = detector.observe(t, pos, vel, yaw)
         ctrl_behavior.observe = lambda _dt, t=t, social=social: (t, social)
         started = _time.perf_counter()
         simw.world.update(dt)
         step_seconds.append(_time.perf_counter() - started)
+        if detector is not None:  # the estimator's time counts toward the control step
+            step_seconds[-1] += detector.seconds[-1]
         out = ctrl_behavior.last_output
         cmd = ctrl_behavior.last_cmd
         status = out.status.value if out is not None else "NO_CONTROLLER"
@@ -158,6 +249,15 @@ def run_episode(
     # given goal is still measured at the scenario's social goal, which it may have ignored.
     own = driven_to is not None and not np.allclose(driven_to, np.asarray(scn.goal, dtype=float))
     measured = driven_to if own and target.waypoint is None else target.pose
+    source = "controller" if own and target.waypoint is None else "scenario"
+    extra: dict[str, Any] = {"context": context}
+    if detector is not None:
+        # the true context's social goal, seen from where the robot ended
+        truth = resolve_target(scn, context_at(social0, pos, vel, yaw), robot_pose=pose)
+        measured = truth.pose if target.waypoint is None else target.pose
+        source = "true context"
+        extra["estimator_ms_median"] = float(np.median(detector.seconds) * 1e3)
+        extra["detected_social_goal"] = resolve_target(scn, seen0).meta.get("social_goal")
     record = recorder.build(
         dt=dt,
         robot_radius=model.circumscribed_radius,
@@ -179,8 +279,9 @@ def run_episode(
             "reactive_behavior": reactive_behavior if humans == "reactive" else None,
             "termination": reason,
             "engine": f"navground {core.get_build_info().version_string}",
-            "target_source": "controller" if own and target.waypoint is None else "scenario",
+            "target_source": source,
             **target.meta,
+            **extra,
         },
     )
     return EpisodeResult(record, diagnostics, _time.perf_counter() - wall_start, step_seconds)

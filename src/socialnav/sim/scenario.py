@@ -260,7 +260,9 @@ class PersonSpec(_Model):
 
 class GroupSpec(_Model):
     members: list[int] = Field(min_length=2)
-    mode: Literal["join", "lead"] = "join"
+    mode: Literal["join", "lead", "walking"] = Field(
+        "join", description="join/lead a standing group, or walking: people moving together"
+    )
 
 
 class QueueSpec(_Model):

@@ -47,13 +47,17 @@ class StackController:
         self.params = _planner_params(self.preset_spec.params, params)
         self.navigator: Navigator | None = None
 
-    def reset(self, scenario: Scenario, robot: RobotModel) -> None:
+    def reset(
+        self, scenario: Scenario, robot: RobotModel, social: SocialContext | None = None
+    ) -> None:
+        """Build the stack for ``scenario``; ``social`` is the context the robot sees at the
+        start (default: the scenario's own, i.e. the context given)."""
         self.navigator = build_navigator(
             self.preset,
             robot,
             costmap=scenario.static_costmap(robot),
             goal=np.asarray(scenario.goal, dtype=float),
-            social=scenario.social_context(scenario.start),
+            social=scenario.social_context(scenario.start) if social is None else social,
             record=self.record,
             params=self.params,
         )

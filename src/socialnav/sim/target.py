@@ -16,7 +16,7 @@ import numpy as np
 from socialnav.core.geometry import FloatArray
 from socialnav.core.scene import SocialContext
 from socialnav.sim.scenario import Scenario
-from socialnav.social.resolve import resolve_social_goal
+from socialnav.social.resolve import resolve_social_goal_detailed
 
 
 @dataclass(frozen=True)
@@ -28,21 +28,28 @@ class Target:
     meta: dict[str, Any]
 
 
-def resolve_target(scenario: Scenario, social: SocialContext) -> Target:
-    """The social goal when one resolves (``socialnav.social.resolve``), else the given goal.
+def resolve_target(
+    scenario: Scenario, social: SocialContext, robot_pose: FloatArray | None = None
+) -> Target:
+    """The social goal when one resolves (``socialnav.social.resolve``), else the given goal,
+    seen from ``robot_pose (3,)`` (default: the scenario's start).
 
     A social goal of kind ``waypoint`` (gallery activity) keeps the given goal as the target and
-    becomes the waypoint to pass.
+    becomes the waypoint to pass. Structures that were not targets (walking groups, groups that
+    fail the sanity limits) are listed with their reason in ``meta["social_goal_rejected"]``.
     """
     goal = np.asarray(scenario.goal, dtype=float)
-    start = np.asarray(scenario.start, dtype=float)
-    sg = resolve_social_goal(social, goal, start)
+    start = np.asarray(scenario.start if robot_pose is None else robot_pose, dtype=float)
+    resolution = resolve_social_goal_detailed(social, goal, start)
+    sg = resolution.goal
+    rejected = "; ".join(f"{what}: {why}" for what, why in resolution.rejected) or None
     if sg is None:
-        return Target(goal, None, {"social_goal": None})
+        return Target(goal, None, {"social_goal": None, "social_goal_rejected": rejected})
     meta = {
         "social_goal": sg.kind,
         "social_goal_fallback": sg.fallback,
         "social_goal_reason": sg.reason,
+        "social_goal_rejected": rejected,
     }
     pose = np.asarray(sg.pose, dtype=float)
     if sg.is_waypoint:

@@ -7,7 +7,10 @@ chosen from the :class:`~socialnav.core.scene.SocialContext` and the goal the ro
    - a queue whose service point or head member is within ``queue_radius`` (1.5 m) of the given
      goal → its tail slot (:func:`~socialnav.social.goals.queue_tail_pose`);
    - a group whose fitted centre is within ``R + group_margin`` (1.0 m) of the given goal → the
-     join spot, or the leader's spot when ``Group.mode == "lead"``;
+     join spot, or the leader's spot when ``Group.mode == "lead"``; walking groups and groups
+     that fail the sanity limits of :mod:`socialnav.social.plausibility` (implausible circle,
+     a member far from the others) are never join targets: they are listed, with the reason,
+     in :attr:`Resolution.rejected`;
    - an artwork viewer within ``viewer_radius`` (1.6 m, the presenter distance range's upper end)
      of the given goal, or a given goal inside that viewer's activity space → the presenter spot.
    - a structure of a registered kind (:mod:`socialnav.social.structures`) whose own rule says
@@ -27,6 +30,8 @@ malformed poses raise :class:`~socialnav.core.errors.InvalidInputError`.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 from numpy.typing import ArrayLike
 
@@ -40,8 +45,19 @@ from socialnav.social.goals import (
     presenter_pose,
     queue_tail_pose,
 )
+from socialnav.social.plausibility import group_plausibility
 from socialnav.social.spaces import activity_space_polygon, fit_circle, segment_polygon_distance
 from socialnav.social.structures import structure_social_goals
+
+
+@dataclass(frozen=True)
+class Resolution:
+    """``goal`` (``None``: drive to the given goal) and ``rejected``: ``(structure, reason)``
+    for every structure that was not considered a target, e.g. ``("group 0", "walking group")``.
+    """
+
+    goal: SocialGoal | None
+    rejected: tuple[tuple[str, str], ...] = ()
 
 
 def resolve_social_goal(
@@ -60,7 +76,35 @@ def resolve_social_goal(
 
     See the module docstring for the rules and distances (m). ``free_fn`` (points ``(M, 2)`` →
     free ``(M,)``) is passed to the goal functions so spots inside walls are avoided.
+    :func:`resolve_social_goal_detailed` also says which structures were rejected and why.
     """
+    return resolve_social_goal_detailed(
+        social,
+        given_goal,
+        robot_pose,
+        queue_radius=queue_radius,
+        group_margin=group_margin,
+        viewer_radius=viewer_radius,
+        activity_margin=activity_margin,
+        waypoint_clearance=waypoint_clearance,
+        free_fn=free_fn,
+    ).goal
+
+
+def resolve_social_goal_detailed(
+    social: SocialContext,
+    given_goal: ArrayLike,
+    robot_pose: ArrayLike,
+    *,
+    queue_radius: float = 1.5,
+    group_margin: float = 1.0,
+    viewer_radius: float = 1.6,
+    activity_margin: float = 0.3,
+    waypoint_clearance: float = 1.6,
+    free_fn: FreeFn | None = None,
+) -> Resolution:
+    """:func:`resolve_social_goal` with the structures it rejected, each with a reason."""
+    rejected: list[tuple[str, str]] = []
     goal = as_pose(given_goal, "given_goal")
     pose = as_pose(robot_pose, "robot_pose")
     g, robot = goal[:2], pose[:2]
@@ -90,10 +134,17 @@ def resolve_social_goal(
                 )
             )
 
-    for group in social.groups:
+    for k, group in enumerate(social.groups):
         if not group.member_ids:
             continue
+        if group.is_walking:
+            rejected.append((f"group {k}", "walking group: kept whole, never joined"))
+            continue
         members = social.positions(group.member_ids)
+        check = group_plausibility(members)
+        if not check.ok:
+            rejected.append((f"group {k}", f"not a join target: {check.reason}"))
+            continue
         center, radius = fit_circle(members)
         anchor = float(np.linalg.norm(g - center))
         if anchor <= radius + group_margin:
@@ -125,7 +176,7 @@ def resolve_social_goal(
 
     if found:
         found.sort(key=lambda item: (item[0], item[1]))
-        return found[0][2]
+        return Resolution(found[0][2], tuple(rejected))
 
     crossing: list[tuple[float, SocialGoal]] = []
     for art in social.artworks:
@@ -146,5 +197,5 @@ def resolve_social_goal(
                 crossing.append((float(np.linalg.norm(poly.mean(axis=0) - robot)), wp))
     if crossing:
         crossing.sort(key=lambda item: item[0])
-        return crossing[0][1]
-    return None
+        return Resolution(crossing[0][1], tuple(rejected))
+    return Resolution(None, tuple(rejected))

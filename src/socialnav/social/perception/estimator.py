@@ -1,0 +1,235 @@
+"""The per-cycle social-context estimator: people's tracks in, a :class:`SocialContext` out.
+
+Banisetty et al. assume "the robot has prior knowledge of the on-going interaction" and name
+removing that assumption as future work; this module removes it. Every control cycle:
+
+1. **Tracks.** Each track is smoothed by a constant-velocity α filter (Kalata, "The tracking
+   index", IEEE T-AES 1984): the position predicted from the last estimate and the measured
+   velocity is corrected by ``smoothing`` × the innovation; velocity and heading likewise. A
+   standing person's estimate is the running mean of their observations (gain ``1/n``,
+   floored at ``standing_smoothing``). An innovation beyond ``gate`` (m: an id switch, a new
+   person) or a heading turn beyond 90° restarts the track at the measurement. People missed
+   for at most ``coast_time`` (s) are coasted at their last velocity, so missed detections do
+   not break up a group. Without smoothing, a 0.05 m position noise on three members of an
+   arc makes their fitted circle, and so the join spot, jump by metres.
+2. **Detection**, in pipeline order, each detector seeing only people that earlier ones did not
+   claim: queues (:mod:`.queues`), artwork viewers (:mod:`.viewers`), F-formations
+   (:mod:`.fformations`, GCFF), walking groups (:mod:`.walking`). Detectors are registry
+   entries (:data:`~socialnav.social.perception.base.DETECTORS`), one module each.
+3. **Hysteresis** (:mod:`.tracking`): structures carry a confidence and switch on and off with
+   two thresholds.
+4. **Output**: the planner's own types, so it consumes them unchanged — F-formations as
+   :class:`~socialnav.core.scene.Group` (``mode`` = ``group_mode``), walking groups as groups
+   with ``mode="walking"`` (kept whole, never joined), queues as
+   :class:`~socialnav.core.scene.Queue` (head → tail, service point from the map or the head's
+   heading), viewers as the ``viewer_ids`` of the map's artworks. A person is in at most one
+   structure (the most confident wins).
+
+Positions in metres in the world frame, yaw CCW from +x; times in seconds.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from socialnav.core.errors import ConfigurationError
+from socialnav.core.geometry import wrap_angle
+from socialnav.core.scene import Artwork, Group, Person, Queue, SocialContext
+from socialnav.social.perception import fformations, queues, viewers, walking  # noqa: F401
+from socialnav.social.perception.base import (
+    DETECTORS,
+    STANDING_SPEED,
+    Candidate,
+    Detector,
+    MapKnowledge,
+    StructureKind,
+    TrackFrame,
+)
+from socialnav.social.perception.tracking import HysteresisParams, StructureTracker
+
+DEFAULT_PIPELINE: tuple[str, ...] = ("queue", "viewers", "fformation", "walking_group")
+#: Queue spacing handed to the planner is clipped to this range (m): the tail slot must stay a
+#: plausible place to stand even when the members' gaps are noisy.
+SPACING_RANGE = (0.5, 1.2)
+
+
+@dataclass(frozen=True)
+class EstimatorParams:
+    """``coast_time`` (s), ``smoothing`` (α in (0, 1]; 1 = raw measurements),
+    ``standing_smoothing`` (the floor of α for standing people), ``gate`` (m),
+    the detector ``pipeline`` (registry names, in order),
+    ``detector_params`` (name → keyword overrides), ``hysteresis``, ``group_mode`` (mode of
+    detected F-formations: ``join`` or ``lead``, the robot's task with a group)."""
+
+    coast_time: float = 0.6
+    smoothing: float = 0.2
+    standing_smoothing: float = 0.05
+    gate: float = 1.0
+    pipeline: tuple[str, ...] = DEFAULT_PIPELINE
+    detector_params: dict[str, dict[str, Any]] = field(default_factory=dict)
+    hysteresis: HysteresisParams = field(default_factory=HysteresisParams)
+    group_mode: str = "join"
+
+
+@dataclass(frozen=True)
+class Structure:
+    """One estimated structure: ``kind``, ``members`` (ids present in the context),
+    ``confidence`` in [0, 1], ``track_id`` (stable over time), ``geometry``."""
+
+    kind: StructureKind
+    members: tuple[int, ...]
+    confidence: float
+    track_id: int
+    geometry: dict[str, Any] = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class Estimate:
+    """The estimator's answer at ``time``: ``context`` for the planner, ``structures`` with
+    their confidences, and the ``candidates`` of this frame (before hysteresis)."""
+
+    time: float
+    context: SocialContext
+    structures: tuple[Structure, ...]
+    candidates: tuple[Candidate, ...] = ()
+
+
+class ContextEstimator:
+    """Stateful: call :meth:`update` once per cycle with the tracked people.
+
+    ``knowledge``: artworks and service points from the map. Raises
+    :class:`~socialnav.core.errors.ConfigurationError` for an unknown detector name.
+    """
+
+    def __init__(
+        self, knowledge: MapKnowledge | None = None, params: EstimatorParams | None = None
+    ) -> None:
+        self.knowledge = knowledge or MapKnowledge()
+        self.params = params or EstimatorParams()
+        if self.params.group_mode not in ("join", "lead"):
+            raise ConfigurationError(f"group_mode must be join or lead: {self.params.group_mode}")
+        self.detectors: list[tuple[str, Detector]] = [
+            (name, DETECTORS.get(name)(**self.params.detector_params.get(name, {})))
+            for name in self.params.pipeline
+        ]
+        self.tracker = StructureTracker(self.params.hysteresis)
+        self.reset()
+
+    def reset(self) -> None:
+        """Forget every track and structure (a new episode)."""
+        self.tracker.reset()
+        self._last_seen: dict[int, tuple[float, Person]] = {}
+        self._standing: dict[int, int] = {}
+
+    def _smooth(self, time: float, p: Person) -> Person:
+        last = self._last_seen.get(p.id)
+        a = self.params.smoothing
+        if last is None or a >= 1.0 or time <= last[0]:
+            self._standing[p.id] = 0
+            return p
+        dt, q = time - last[0], last[1]
+        pred = np.asarray(q.position) + dt * np.asarray(q.velocity)
+        z = np.asarray(p.position, dtype=float)
+        if np.hypot(*(z - pred)) > self.params.gate:
+            self._standing[p.id] = 0
+            return p
+        standing = max(np.hypot(*p.velocity), np.hypot(*q.velocity)) < STANDING_SPEED
+        if standing:
+            # a standing person: the running mean of their observations (the Kalman gain of a
+            # static target, 1/n), floored at standing_smoothing so they can still move away
+            n = self._standing.get(p.id, 0) + 1
+            self._standing[p.id] = n
+            a = max(1.0 / (n + 1), self.params.standing_smoothing)
+        else:
+            self._standing[p.id] = 0
+        x = pred + a * (z - pred)
+        v = np.asarray(q.velocity) + a * (np.asarray(p.velocity) - np.asarray(q.velocity))
+        turn = float(wrap_angle(p.yaw - q.yaw))
+        # a turn beyond 90° is taken as measured (averaging opposite headings never flips)
+        yaw = p.yaw if abs(turn) > np.pi / 2 else float(wrap_angle(q.yaw + a * turn))
+        return Person(p.id, (float(x[0]), float(x[1])), (float(v[0]), float(v[1])), yaw, p.radius)
+
+    def _tracks(self, time: float, people: Sequence[Person]) -> list[Person]:
+        people = [self._smooth(time, p) for p in people]
+        for p in people:
+            self._last_seen[p.id] = (time, p)
+        seen = {p.id for p in people}
+        out = list(people)
+        for pid, (t, p) in list(self._last_seen.items()):
+            if pid in seen:
+                continue
+            age = time - t
+            if age > self.params.coast_time or age < 0:
+                del self._last_seen[pid]
+                continue
+            x = (p.position[0] + age * p.velocity[0], p.position[1] + age * p.velocity[1])
+            out.append(Person(p.id, x, p.velocity, p.yaw, p.radius))
+        return out
+
+    def detect(self, frame: TrackFrame) -> list[Candidate]:
+        """Every detector's candidates for one frame, claims passed down the pipeline."""
+        claimed: set[int] = set()
+        out: list[Candidate] = []
+        for _, detector in self.detectors:
+            found = detector(frame, self.knowledge, frozenset(claimed))
+            for cand in found:
+                claimed.update(cand.members)
+            out.extend(found)
+        return out
+
+    def update(self, time: float, people: Sequence[Person]) -> Estimate:
+        """The estimate at ``time`` (s) from the people tracked now (``Person`` objects)."""
+        tracked = self._tracks(float(time), people)
+        frame = TrackFrame.from_people(tracked, float(time))
+        candidates = self.detect(frame)
+        active = self.tracker.update(float(time), candidates)
+        present = {p.id for p in tracked}
+        used: set[int] = set()
+        structures: list[Structure] = []
+        groups: list[Group] = []
+        queue_list: list[Queue] = []
+        viewers_of: dict[int, list[int]] = {}
+        for track in sorted(active, key=lambda t: (-t.confidence, t.track_id)):
+            members = tuple(m for m in track.members if m in present and m not in used)
+            minimum = 1 if track.kind in ("viewers", "queue") else 2
+            if len(members) < minimum:
+                continue
+            if track.kind == "queue" and len(members) == 1 and not track.geometry.get("from_map"):
+                continue
+            used.update(members)
+            structures.append(
+                Structure(track.kind, members, track.confidence, track.track_id, track.geometry)
+            )
+            if track.kind == "fformation":
+                groups.append(Group(members, self.params.group_mode))
+            elif track.kind == "walking_group":
+                groups.append(Group(members, "walking"))
+            elif track.kind == "queue":
+                spacing = float(np.clip(track.geometry.get("spacing", 0.8), *SPACING_RANGE))
+                queue_list.append(Queue(members, tuple(track.anchor), spacing))
+            elif track.kind == "viewers":
+                viewers_of.setdefault(int(track.anchor), []).extend(members)
+        artworks = tuple(
+            Artwork(a.center, a.width, a.facing, tuple(viewers_of.get(i, ())))
+            for i, a in enumerate(self.knowledge.artworks)
+        )
+        context = SocialContext(tuple(tracked), tuple(groups), tuple(queue_list), artworks)
+        return Estimate(float(time), context, tuple(structures), tuple(candidates))
+
+
+def estimate_once(
+    people: Sequence[Person],
+    knowledge: MapKnowledge | None = None,
+    params: EstimatorParams | None = None,
+) -> Estimate:
+    """The estimate from one frame alone, without hysteresis: every candidate is a structure
+    with its frame score as confidence (offline evaluation of single images)."""
+    est = ContextEstimator(
+        knowledge,
+        params or EstimatorParams(hysteresis=HysteresisParams(time_constant=0.0, on=0.0, off=0.0)),
+    )
+    return est.update(0.0, people)

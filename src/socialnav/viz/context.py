@@ -1,0 +1,109 @@
+"""Picture of an estimated social context: people, the structures found, their confidence.
+
+Left: the scene at one frame — people (dots with heading ticks), F-formations (o-space circle),
+walking groups (a line through the members), queues (a polyline from the service point through
+the members, head marked), artwork viewers (a line to the artwork), walls. Right: every
+structure's confidence over time (one line per track). Positions in metres, world frame.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+from matplotlib.figure import Figure
+
+from socialnav.core.geometry import FloatArray
+from socialnav.social.perception import Estimate
+
+KIND_COLORS = {
+    "fformation": "tab:blue",
+    "walking_group": "tab:orange",
+    "queue": "tab:green",
+    "viewers": "tab:purple",
+}
+
+
+def plot_context(
+    estimates: Sequence[Estimate],
+    frame: int | None = None,
+    walls: FloatArray | None = None,
+    title: str = "",
+) -> Figure:
+    """Figure of ``estimates`` (one per frame); the scene is drawn at ``frame`` (default: the
+    frame with the most structures, then the highest total confidence), zoomed on the people.
+    Raises ``ValueError`` with no estimates."""
+    if not estimates:
+        raise ValueError("no estimates to draw")
+    if frame is None:
+        key = [(len(e.structures), sum(s.confidence for s in e.structures)) for e in estimates]
+        frame = max(range(len(key)), key=lambda i: key[i])
+    est = estimates[frame]
+    fig = Figure(figsize=(11, 5), layout="constrained")
+    ax, ax_t = fig.subplots(1, 2, width_ratios=(1.1, 1))
+    if walls is not None:
+        for a, b in np.asarray(walls, dtype=float).reshape(-1, 2, 2):
+            ax.plot([a[0], b[0]], [a[1], b[1]], color="0.3", lw=1.5)
+    people = {p.id: p for p in est.context.people}
+    for p in people.values():
+        x, y = p.position
+        ax.plot(x, y, "o", color="0.2", ms=5, zorder=3)
+        ax.plot([x, x + 0.35 * np.cos(p.yaw)], [y, y + 0.35 * np.sin(p.yaw)], color="0.2", lw=1)
+    for art in est.context.artworks:
+        n = np.array([np.cos(art.facing), np.sin(art.facing)])
+        t = np.array([-n[1], n[0]])
+        c = np.asarray(art.center)
+        ends = np.stack([c - 0.5 * art.width * t, c + 0.5 * art.width * t])
+        ax.plot(ends[:, 0], ends[:, 1], color=KIND_COLORS["viewers"], lw=4, alpha=0.5)
+    for s in est.structures:
+        color = KIND_COLORS.get(s.kind, "k")
+        pts = np.array([people[m].position for m in s.members if m in people]).reshape(-1, 2)
+        if s.kind == "fformation" and "ospace_center" in s.geometry:
+            c = np.asarray(s.geometry["ospace_center"])
+            r = float(s.geometry.get("ospace_radius", 0.5))
+            a = np.linspace(0, 2 * np.pi, 60)
+            ax.plot(c[0] + r * np.cos(a), c[1] + r * np.sin(a), color=color, lw=1.5)
+        elif s.kind in ("walking_group", "queue"):
+            ax.plot(pts[:, 0], pts[:, 1], "-", color=color, lw=2)
+            if s.kind == "queue":
+                ax.plot(pts[0, 0], pts[0, 1], "s", color=color, ms=9, mfc="none")
+        elif s.kind == "viewers":
+            for art in est.context.artworks:
+                for v in art.viewer_ids:
+                    if v in people:
+                        at = people[v].position
+                        ax.plot([at[0], art.center[0]], [at[1], art.center[1]], ":", color=color)
+        if pts.size:
+            ax.annotate(
+                f"{s.kind} {s.confidence:.2f}",
+                pts.mean(axis=0),
+                fontsize=7,
+                color=color,
+                xytext=(4, 4),
+                textcoords="offset points",
+            )
+    if people:
+        xy = np.array([p.position for p in people.values()])
+        lo, hi = xy.min(axis=0) - 2.0, xy.max(axis=0) + 2.0
+        ax.set_xlim(lo[0], hi[0])
+        ax.set_ylim(lo[1], hi[1])
+    ax.set_aspect("equal")
+    ax.set_xlabel("x (m)")
+    ax.set_ylabel("y (m)")
+    ax.set_title(f"{title} t = {est.time:.1f} s".strip())
+    series: dict[int, tuple[str, list[float], list[float]]] = {}
+    for e in estimates:
+        for s in e.structures:
+            kind, ts, cs = series.setdefault(s.track_id, (s.kind, [], []))
+            ts.append(e.time)
+            cs.append(s.confidence)
+    for kind, ts, cs in series.values():
+        ax_t.plot(ts, cs, ".", ms=2, color=KIND_COLORS.get(kind, "k"))
+    for kind, color in KIND_COLORS.items():
+        ax_t.plot([], [], "-", color=color, label=kind)
+    ax_t.axvline(est.time, color="0.6", lw=0.8)
+    ax_t.set_ylim(0, 1.05)
+    ax_t.set_xlabel("time (s)")
+    ax_t.set_ylabel("confidence (active structures)")
+    ax_t.legend(loc="lower right", fontsize=8)
+    return fig

@@ -1,0 +1,209 @@
+"""The social-context estimator: each detector on analytic layouts, hysteresis, the output
+types the planner consumes, and the sanity limits on given groups."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+
+from socialnav.core.scene import Artwork, Group, Person, SocialContext
+from socialnav.social.perception import (
+    ContextEstimator,
+    MapKnowledge,
+    TrackFrame,
+    estimate_once,
+)
+from socialnav.social.perception.fformations import FFormationParams, facility_location, gcff
+from socialnav.social.plausibility import group_plausibility
+from socialnav.social.resolve import resolve_social_goal_detailed
+
+
+def circle_group(center, radius, k, start_id=0, phase=0.0):
+    """``k`` people on a circle, each facing its centre."""
+    out = []
+    for i in range(k):
+        a = phase + 2 * np.pi * i / k
+        x, y = center[0] + radius * np.cos(a), center[1] + radius * np.sin(a)
+        out.append(Person(start_id + i, (x, y), yaw=float(a + np.pi)))
+    return out
+
+
+def line_queue(head, direction, k, spacing=0.8, start_id=0):
+    d = np.array([np.cos(direction), np.sin(direction)])
+    # people face the head: opposite to the direction the queue grows in
+    return [
+        Person(
+            start_id + i, tuple(np.asarray(head) + i * spacing * d), yaw=float(direction + np.pi)
+        )
+        for i in range(k)
+    ]
+
+
+def kinds(estimate):
+    return sorted((s.kind, tuple(sorted(s.members))) for s in estimate.structures)
+
+
+# --- F-formations -----------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(("k", "radius"), [(2, 0.6), (3, 0.9), (4, 0.6), (5, 0.8), (6, 0.6)])
+def test_people_facing_a_common_centre_are_one_fformation(k, radius):
+    people = circle_group((3.0, -1.0), radius, k)
+    est = estimate_once(people)
+    assert kinds(est) == [("fformation", tuple(range(k)))]
+    assert est.context.groups == (Group(tuple(range(k)), "join"),)
+    s = est.structures[0]
+    assert 0.0 < s.confidence <= 1.0
+    np.testing.assert_allclose(s.geometry["ospace_center"], (3.0, -1.0), atol=0.25)
+
+
+def test_people_facing_away_are_not_a_group():
+    people = circle_group((0.0, 0.0), 0.6, 3)
+    away = [Person(p.id, p.position, yaw=p.yaw + np.pi) for p in people]
+    assert estimate_once(away).structures == ()
+
+
+def test_two_separate_conversations_are_two_groups():
+    people = circle_group((0, 0), 0.6, 3) + circle_group((5, 0), 0.6, 2, start_id=10)
+    assert kinds(estimate_once(people)) == [("fformation", (0, 1, 2)), ("fformation", (10, 11))]
+
+
+def test_someone_between_a_person_and_the_ospace_centre_occludes_them():
+    # 0 and 1 face each other 1.6 m apart; 2 stands between 0 and their centre, facing 0
+    pos = np.array([(0.0, 0.0), (1.6, 0.0), (0.4, 0.0)])
+    yaw = np.array([0.0, np.pi, np.pi])
+    assert [g.tolist() for g in gcff(pos[:2], yaw[:2], FFormationParams())] == [[0, 1]]
+    blind = gcff(pos, yaw, FFormationParams(occlusion_cost=0.0))
+    assert [g.tolist() for g in blind] == [[0, 1, 2]]
+    assert [g.tolist() for g in gcff(pos, yaw, FFormationParams())] == [[1, 2]]
+
+
+@given(st.lists(st.floats(0, 10), min_size=4, max_size=16), st.floats(0.5, 50))
+def test_facility_location_is_no_worse_than_all_alone_or_all_together(flat, opening):
+    k = len(flat) // 2
+    costs = np.abs(np.subtract.outer(np.array(flat[:k]), np.array(flat[k : 2 * k]))) ** 2
+    np.fill_diagonal(costs, 0.0)
+    labels = facility_location(costs, opening)
+    total = costs[np.arange(k), labels].sum() + opening * np.unique(labels).size
+    alone = opening * k
+    together = min(costs[:, j].sum() for j in range(k)) + opening
+    assert total <= min(alone, together) + 1e-9
+
+
+# --- queues ----------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("direction", [0.0, 1.0, np.pi / 2, -2.5])
+@pytest.mark.parametrize("desk", [True, False])
+def test_a_line_of_people_facing_the_head_is_a_queue_in_order(direction, desk):
+    head = np.array([1.0, 2.0])
+    people = line_queue(head, direction, 5)
+    d = np.array([np.cos(direction), np.sin(direction)])
+    service = head - 0.7 * d
+    knowledge = MapKnowledge(service_points=service[None] if desk else np.zeros((0, 2)))
+    # shuffle the track order: the order must come from geometry
+    est = estimate_once(list(reversed(people)), knowledge)
+    assert len(est.context.queues) == 1
+    q = est.context.queues[0]
+    assert q.member_ids == (0, 1, 2, 3, 4)
+    if desk:
+        np.testing.assert_allclose(q.service_point, service)
+    else:  # spacing ahead of the head, along its heading
+        np.testing.assert_allclose(q.service_point, head - 0.8 * d, atol=1e-9)
+
+
+def test_one_person_at_a_desk_is_a_queue_of_one_but_not_without_the_desk():
+    p = [Person(7, (0.0, 0.0), yaw=0.0)]
+    assert estimate_once(p).context.queues == ()
+    at_desk = estimate_once(p, MapKnowledge(service_points=np.array([[0.8, 0.0]])))
+    assert [q.member_ids for q in at_desk.context.queues] == [(7,)]
+
+
+# --- walking groups and viewers -------------------------------------------------------------
+
+
+def test_people_walking_side_by_side_are_a_walking_group_never_a_join_target():
+    a = Person(0, (0.0, 0.0), velocity=(1.2, 0.0), yaw=0.0)
+    b = Person(1, (0.0, 0.7), velocity=(1.15, 0.05), yaw=0.0)
+    c = Person(2, (0.5, 3.0), velocity=(-1.2, 0.0), yaw=np.pi)  # walks the other way
+    est = estimate_once([a, b, c])
+    assert est.context.groups == (Group((0, 1), "walking"),)
+    res = resolve_social_goal_detailed(est.context, (0.3, 0.4, 0.0), (-5.0, 0.0, 0.0))
+    assert res.goal is None
+    assert res.rejected == (("group 0", "walking group: kept whole, never joined"),)
+
+
+def test_people_facing_an_artwork_are_its_viewers():
+    art = Artwork(center=(0.0, 5.0), width=1.2, facing=-np.pi / 2)
+    viewer = Person(0, (0.2, 3.5), yaw=np.pi / 2)
+    passer = Person(1, (-1.0, 3.0), yaw=0.0)
+    far = Person(2, (0.0, -1.0), yaw=np.pi / 2)
+    est = estimate_once([viewer, passer, far], MapKnowledge(artworks=(art,)))
+    assert est.context.artworks[0].viewer_ids == (0,)
+
+
+# --- hysteresis ---------------------------------------------------------------------------
+
+
+def test_a_group_appears_after_a_few_frames_survives_a_gap_and_then_goes():
+    people = circle_group((0, 0), 0.6, 3)
+    est = ContextEstimator()
+    active = [bool(est.update(0.1 * k, people).context.groups) for k in range(6)]
+    assert active[0] is False and active[-1] is True
+    # one frame where the detection fails (people face away) does not remove it
+    away = [Person(p.id, p.position, yaw=p.yaw + np.pi) for p in people]
+    assert est.update(0.6, away).context.groups
+    assert est.update(0.7, people).context.groups
+    gone = [bool(est.update(0.8 + 0.1 * k, away).context.groups) for k in range(15)]
+    assert gone[0] is True and gone[-1] is False
+    assert gone == sorted(gone, reverse=True)  # no flicker: on, then off for good
+
+
+def test_a_missed_member_is_coasted_for_a_short_while():
+    people = circle_group((0, 0), 0.6, 3)
+    est = ContextEstimator()
+    for k in range(6):
+        est.update(0.1 * k, people)
+    out = est.update(0.6, people[:2])
+    assert out.context.groups[0].member_ids == (0, 1, 2)
+    later = est.update(2.0, people[:2])
+    assert 2 not in {p.id for p in later.context.people}
+
+
+def test_estimate_is_a_valid_social_context_and_tracks_are_unique():
+    people = circle_group((0, 0), 0.6, 3)
+    assert isinstance(estimate_once(people).context, SocialContext)
+    with pytest.raises(ValueError, match="unique"):
+        TrackFrame.from_people([people[0], people[0]])
+
+
+# --- sanity limits on given groups -------------------------------------------------------
+
+
+def test_issue_example_a_member_far_away_makes_the_group_no_join_target():
+    # two members 1.2 m apart and one 6.6 m away: a huge circle, a spot off the map
+    people = (
+        Person(0, (0.0, 0.0)),
+        Person(1, (1.2, 0.0)),
+        Person(2, (0.6, 6.6)),
+    )
+    social = SocialContext(people, (Group((0, 1, 2)),))
+    res = resolve_social_goal_detailed(social, (0.6, 0.5, 0.0), (-4.0, 0.0, 0.0))
+    assert res.goal is None
+    assert len(res.rejected) == 1 and "not a join target" in res.rejected[0][1]
+
+
+@given(st.floats(0.5, 2.0), st.integers(2, 6), st.floats(0, 6.28))
+def test_groups_of_radius_half_to_two_metres_pass_the_sanity_limits(radius, k, phase):
+    people = circle_group((1.0, 1.0), radius, k, phase=phase)
+    check = group_plausibility([p.position for p in people])
+    assert check.ok, check.reason
+
+
+@pytest.mark.parametrize("radius", [0.1, 3.0])
+def test_circles_outside_the_range_are_implausible(radius):
+    people = circle_group((0, 0), radius, 4)
+    check = group_plausibility([p.position for p in people])
+    assert not check.ok and "radius" in check.reason
