@@ -216,17 +216,52 @@ def _run_with_progress(
         )
 
 
+def _compare_generated(
+    families: str,
+    planners: list[str],
+    robots: list[str],
+    seeds: str | None,
+    out: Path,
+    jobs: int,
+    resume: bool,
+    backend: str = "local",
+    address: str | None = None,
+) -> None:
+    """``compare --suite generated``: family × planner × robot × seed (socialnav.sim.generate)."""
+    from socialnav.experiments.crowd import parse_seeds
+    from socialnav.experiments.suite import generated_specs
+    from socialnav.report.generated import build_generated_report
+    from socialnav.sim.generate import GENERATORS
+
+    names = _split(families) or GENERATORS.names()
+    for name in names:
+        GENERATORS.get(name)  # an unknown family fails here (ConfigurationError)
+    specs = generated_specs(names, planners, robots, parse_seeds(seeds or "10000:10020"))
+    rows = _run_with_progress(specs, out, jobs, resume, "generated", backend, address)
+    report = build_generated_report(rows, out)
+    failed = sum(1 for r in rows if r.get("error"))
+    typer.echo(f"{len(rows)} runs ({failed} errors) → {report}")
+
+
 @app.command()
 def compare(
     out: Annotated[Path, typer.Option(help="Report folder.")] = Path("report"),
-    suite: Annotated[str, typer.Option(help="paper, reactive, randomized or crowds.")] = "paper",
+    suite: Annotated[
+        str, typer.Option(help="paper, reactive, randomized, crowds or generated.")
+    ] = "paper",
     planners: Annotated[str, typer.Option(help="Comma-separated planner names; default all.")] = "",
     robots: Annotated[str, typer.Option(help="Comma-separated robot models.")] = "pr2,pioneer",
     scenarios: Annotated[str, typer.Option(help="Comma-separated scenarios; default all.")] = "",
     seeds: Annotated[
         str | None,
-        typer.Option(help="Seeds A:B, or N for 0:N (randomized: 20; crowds: 10000:10050 reports)."),
+        typer.Option(
+            help="Seeds A:B, or N for 0:N (randomized: 20; crowds: 10000:10050 reports; "
+            "generated: below 10000 development, 10000 and up reporting, default 10000:10020)."
+        ),
     ] = None,
+    families: Annotated[
+        str, typer.Option(help="--suite generated: comma-separated families; default all.")
+    ] = "",
     jobs: Annotated[int, typer.Option(help="Parallel workers; -1 = all cores.")] = -1,
     resume: Annotated[bool, typer.Option(help="Skip runs already in the report folder.")] = True,
     data: Annotated[
@@ -261,8 +296,8 @@ def compare(
     from socialnav.report.build import build_report
     from socialnav.sim.scenario import builtin_scenarios, load_scenario
 
-    if suite not in ("paper", "reactive", "randomized", "crowds"):
-        _fail(f"unknown suite {suite!r}; use paper, reactive, randomized or crowds")
+    if suite not in ("paper", "reactive", "randomized", "crowds", "generated"):
+        _fail(f"unknown suite {suite!r}; use paper, reactive, randomized, crowds or generated")
     contexts = {"given": ("given",), "detected": ("detected",), "both": ("given", "detected")}
     if context not in contexts:
         _fail(f"unknown context {context!r}; use given, detected or both")
@@ -285,6 +320,11 @@ def compare(
                 switch_distance,
                 backend,
                 address,
+            )
+            return
+        if suite == "generated":
+            _compare_generated(
+                families, planner_names, _split(robots), seeds, out, jobs, resume, backend, address
             )
             return
         for name in _split(scenarios):
@@ -331,6 +371,10 @@ def report(
     selected = [r for r in rows if r["suite"] == suite]
     if suite == "crowds":
         path = build_crowd_report(selected, results_dir)
+    elif suite == "generated":
+        from socialnav.report.generated import build_generated_report
+
+        path = build_generated_report(selected, results_dir)
     else:
         path = build_report(selected, results_dir, suite=suite)
     failed = sum(1 for r in selected if r.get("error"))

@@ -82,6 +82,7 @@ def test_queue_joined_at_the_tail(make_record, seg):
         "reached_goal": True,
         "no_collision": True,
         "at_tail_slot": True,
+        "arrival_yaw": True,
         "facing_line": True,
         "no_cut_in": True,
         "success": True,

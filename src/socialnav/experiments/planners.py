@@ -52,7 +52,12 @@ def run_planner_episode(spec: EpisodeSpec, record_diagnostics: bool = False) -> 
     from socialnav.sim.scenario import load_scenario
 
     controller = make_controller(spec.planner, record=record_diagnostics)
-    scenario = load_scenario(spec.scenario)
+    if spec.scenario.startswith("generated:"):
+        from socialnav.sim.generate import generate
+
+        scenario = generate(spec.scenario.removeprefix("generated:"), spec.seed)
+    else:
+        scenario = load_scenario(spec.scenario)
     if spec.randomize:
         scenario = scenario.model_copy(update={"jitter": RANDOMIZED_JITTER})
     robot = ROBOT_MODELS[spec.robot]

@@ -24,6 +24,8 @@ from socialnav.experiments.crowd import CrowdSpec
 
 TABLE1_SCENARIO = "hallway_passing"
 TABLE1_SEEDS = (0, 1, 2, 3, 4)
+#: ``EpisodeSpec.scenario`` of a generated scene: ``"generated:<family>"``, the seed picks it
+GENERATED_PREFIX = "generated:"
 
 
 @dataclass(frozen=True)
@@ -40,7 +42,8 @@ class EpisodeSpec:
 
     @property
     def run_id(self) -> str:
-        name = Path(self.scenario).stem
+        name = self.scenario.replace(GENERATED_PREFIX, "gen_")
+        name = Path(name).stem if not self.scenario.startswith(GENERATED_PREFIX) else name
         suffix = "_rand" if self.randomize else ""
         # the given context keeps its historical ids, so earlier results still resume
         ctx = "" if self.context == "given" else f"__{self.context}"
@@ -90,6 +93,27 @@ def suite_specs(
     return specs
 
 
+# --- the generated suite ----------------------------------------------------------------------
+
+
+def generated_specs(
+    families: Sequence[str],
+    planners: Sequence[str],
+    robots: Sequence[str],
+    seeds: Iterable[int],
+) -> list[EpisodeSpec]:
+    """Every family × planner × robot × seed of the generated suite (``socialnav.sim.generate``;
+    seeds below 10,000 are the development split, 10,000 and up the reporting split)."""
+    seeds = list(seeds)
+    return [
+        EpisodeSpec(scenario=f"{GENERATED_PREFIX}{f}", planner=p, robot=r, seed=s)
+        for f in families
+        for p in planners
+        for r in robots
+        for s in seeds
+    ]
+
+
 def run_spec(
     spec: EpisodeSpec | CrowdSpec, out_dir: Path | None = None, figure: bool = False
 ) -> dict[str, Any]:
@@ -118,6 +142,11 @@ def run_spec(
         # overall success is the metric ``success``: stored once
         conditions = {k: v for k, v in measured.passed().items() if k != "success"}
         row.update({condition_column(k): bool(v) for k, v in conditions.items()})
+        judged = measured.conditions
+        row["failed_required"] = ",".join(c.name for c in judged if c.required and not c.passed)
+        row["not_required"] = "; ".join(
+            f"{c.name}: {c.reason}" if c.reason else c.name for c in judged if not c.required
+        )
         row["family"] = record.family
         row["steps"] = record.num_steps
         row["planner_ms_median"] = float(record.meta.get("planner_ms_median", np.nan))

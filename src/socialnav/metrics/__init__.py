@@ -8,6 +8,7 @@ command measures through. Never imports ``sim`` or ``planner``.
 
 from socialnav.metrics import (  # noqa: F401 (register)
     crowd,
+    crowdnav,
     motion,
     proxemics,
     scenario,

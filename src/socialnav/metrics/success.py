@@ -22,8 +22,10 @@ Per family (``record.family``; ``custom`` has only the common conditions):
 - ``hallway``: ``no_personal_space_intrusion`` — the centre-to-centre distance to every person
   stays >= 1.2 m (the tolerance). Scenario ``hallway_headon`` marks it *not required* in its
   YAML (the person never yields; the robot can only yield as far as the walls allow).
-- ``gallery_present``: ``at_presenter_spot`` (final |p - target| <= 0.3 m) and
-  ``outside_activity_space`` (the footprint never overlaps an activity-space trapezoid).
+- ``gallery_present``: ``at_presenter_spot`` (final |p - target| <= 0.3 m),
+  ``facing_viewer`` (final heading within 0.5 rad of the bearing to the nearest viewer:
+  scenarios.md's presenter "faces the viewer") and ``outside_activity_space`` (the footprint
+  never overlaps an activity-space trapezoid).
 - ``gallery_activity``: ``outside_activity_space`` (zero time inside); reaching the goal is the
   common ``reached_goal``.
 - ``queue``: ``at_tail_slot`` (final |p - target| <= 0.3 m), ``facing_line`` (final heading
@@ -34,7 +36,13 @@ Per family (``record.family``; ``custom`` has only the common conditions):
   within 0.5 rad of the bearing to the group centre) and ``outside_o_space`` (the robot *centre*
   never inside the disc of radius R - 0.3; see ``metrics.scenario`` for why the centre).
 
-Spot tolerances (0.3 m) and heading tolerances (0.5 rad) are the conditions' defaults.
+- ``mixed`` (generated suite): the ``queue`` or ``group`` conditions; ``crowdnav``: the common ones.
+
+At the social spots (``gallery_present``, ``queue``, ``group``) ``arrival_yaw`` compares the
+final yaw with the target's; its default tolerance (π rad) accepts any yaw, the generated suite
+sets 0.2 rad. Spot tolerances (0.3 m) and heading tolerances (0.5 rad) are the conditions'
+defaults; a scenario's ``success:`` overrides them (per robot too), and a condition it marks not
+required keeps its reason on the :class:`Condition`.
 ``evaluate_success`` returns every condition (required or not) plus ``"success"`` = all
 *required* conditions. A record whose family needs a queue, group or viewed artwork that its
 ``context`` lacks raises an ``InvalidInputError``; an unknown family or condition a
@@ -47,15 +55,25 @@ import numpy as np
 
 from socialnav.core.episode import EpisodeRecord
 from socialnav.core.errors import InvalidInputError
-from socialnav.core.success import CONDITIONS, FAMILIES, Condition, ConditionCheck, ConditionSpec
+from socialnav.core.geometry import wrap_angle
+from socialnav.core.success import (
+    CONDITIONS,
+    FAMILIES,
+    Condition,
+    ConditionCheck,
+    ConditionSpec,
+    judged_family,
+)
 from socialnav.metrics.base import validate_record
 from socialnav.metrics.scenario import (
     activity_depth,
     cut_in_depth,
+    facing_error,
     final_spot_error,
     group_heading_error_value,
     ospace_depth_center,
     queue_heading_error_value,
+    viewer_positions,
 )
 from socialnav.metrics.series import closest_distance, reached_within_limit
 from socialnav.social.proxemics import PERSONAL
@@ -110,6 +128,18 @@ def _facing_centre(record: EpisodeRecord, tolerance: float) -> bool:
     return bool(group_heading_error_value(record) <= tolerance)
 
 
+def _arrival_yaw(record: EpisodeRecord, tolerance: float) -> bool:
+    return bool(abs(float(wrap_angle(record.robot_poses[-1, 2] - record.target[2]))) <= tolerance)
+
+
+def _facing_viewer(record: EpisodeRecord, tolerance: float) -> bool:
+    viewers = viewer_positions(record)
+    if viewers.shape[0] == 0:
+        raise InvalidInputError(f"gallery record {record.scenario!r} has no viewer in context")
+    nearest = viewers[np.argmin(np.linalg.norm(viewers - record.robot_xy[-1], axis=1))]
+    return bool(facing_error(record, nearest) <= tolerance)
+
+
 def _outside_o_space(record: EpisodeRecord, tolerance: float) -> bool:
     return _never(ospace_depth_center(record), "group", record)
 
@@ -135,6 +165,12 @@ _BUILTIN = {
     "facing_centre": ConditionCheck(
         _facing_centre, HEADING_TOLERANCE, "rad", "ends facing the group centre"
     ),
+    "arrival_yaw": ConditionCheck(
+        _arrival_yaw, float(np.pi), "rad", "final yaw within tolerance of the target's"
+    ),
+    "facing_viewer": ConditionCheck(
+        _facing_viewer, HEADING_TOLERANCE, "rad", "ends facing the nearest viewer"
+    ),
     "outside_o_space": ConditionCheck(
         _outside_o_space, description="centre never inside the o-space (R - 0.3 m)"
     ),
@@ -149,7 +185,8 @@ def success_spec(record: EpisodeRecord) -> tuple[ConditionSpec, ...]:
     declaration followed by its social structures' conditions."""
     if record.success:
         return record.success
-    return FAMILIES.get(record.family).conditions + structure_conditions(record.context.structures)
+    family = judged_family(record.family, bool(record.context.queues))
+    return FAMILIES.get(family).conditions + structure_conditions(record.context.structures)
 
 
 def success_conditions(record: EpisodeRecord) -> list[Condition]:

@@ -39,7 +39,8 @@ from socialnav.core.trajectories import Trajectories
 from socialnav.moo.selection import Selection, SelectionStrategy
 from socialnav.planner import kernels
 from socialnav.planner.context import PlanningContext
-from socialnav.planner.critics.base import CriticUnavailable
+from socialnav.planner.critics.arrival import ArrivalTimeCritic
+from socialnav.planner.critics.base import Critic, CriticUnavailable
 from socialnav.planner.critics.goal_distance import GoalDistanceCritic
 from socialnav.planner.critics.heading import HeadingCritic
 from socialnav.planner.critics.occupancy import OccupancyCritic
@@ -104,6 +105,12 @@ class LocalPlannerParams:
     xy_goal_tolerance: float = 0.1
     yaw_goal_tolerance: float = 0.1
     latch_xy_goal_tolerance: bool = True
+    # A rollout that enters the xy goal tolerance stops there (the latched goal check stops the
+    # robot there), so critics score where the robot will stop. Off = base_local_planner: the
+    # end point after the full sim_time is scored, an approach at speed "overshoots" and the
+    # speed decays like distance / sim_time near the goal (the slow final approach).
+    stop_at_goal: bool = False
+    arrival_time_scale: float = 0.5  # weight (per s) of ArrivalTimeCritic when stop_at_goal
     trans_stopped_vel: float = 0.1
     theta_stopped_vel: float = 0.1
     # scoring (meter scoring)
@@ -137,26 +144,55 @@ class LocalPlannerParams:
             "heading_scale",
             "oscillation_reset_dist",
             "oscillation_reset_angle",
+            "arrival_time_scale",
         ):
             value = getattr(self, name)
             if not (np.isfinite(value) and value >= 0):
                 raise ConfigurationError(f"{name} must be finite and >= 0, got {value}")
 
 
+def _passing_waypoint(ctx: PlanningContext) -> bool:
+    """The cycle steers to a social waypoint the robot passes through, not a goal it stops at:
+    arrival there must not stand for the real end points (its tolerance is 0.5 m, and the real
+    poses matter to the social critics)."""
+    sg = ctx.social_goal
+    if sg is None or not getattr(sg, "is_waypoint", False):
+        return False
+    return bool(np.allclose(np.asarray(sg.pose, dtype=float)[:2], ctx.goal[:2]))
+
+
+def stop_at_goal(trajs: Trajectories, goal: FloatArray, tolerance: float) -> Trajectories:
+    """Each rollout ``(N, T, 3)`` that comes within ``tolerance`` (m) of ``goal`` (xy) has
+    arrived: from its first pose inside on, it stands on the goal's xy (keeping that pose's
+    yaw). Arrival counts as reaching the goal, so every arriving rollout scores as well as the
+    slowest one that ends exactly on it; rollouts that never get there are unchanged."""
+    d = np.hypot(trajs.xy[..., 0] - goal[0], trajs.xy[..., 1] - goal[1])  # (N, T)
+    inside = d <= tolerance
+    arrives = inside.any(axis=1)
+    if not arrives.any():
+        return trajs
+    first = np.argmax(inside, axis=1)  # (N,)
+    steps = np.arange(trajs.t.shape[0])
+    index = np.where(arrives[:, None], np.minimum(steps[None], first[:, None]), steps[None])
+    poses = np.take_along_axis(trajs.poses, index[..., None], axis=1)
+    arrived = arrives[:, None] & (steps[None] >= first[:, None])
+    poses[..., 0] = np.where(arrived, goal[0], poses[..., 0])
+    poses[..., 1] = np.where(arrived, goal[1], poses[..., 1])
+    return Trajectories(trajs.twists, poses, trajs.t)
+
+
 def traditional_objectives(params: LocalPlannerParams | None = None) -> tuple[Objective, ...]:
     """The single "navigation" objective: path, goal, occupancy and heading terms."""
     p = params or LocalPlannerParams()
-    return (
-        Objective(
-            "navigation",
-            (
-                (PathDistanceCritic(), p.path_distance_bias),
-                (GoalDistanceCritic(), p.goal_distance_bias),
-                (OccupancyCritic(footprint=p.footprint_check), p.occdist_scale),
-                (HeadingCritic(heading_lookahead=p.heading_lookahead), p.heading_scale),
-            ),
-        ),
+    terms: tuple[tuple[Critic, float], ...] = (
+        (PathDistanceCritic(), p.path_distance_bias),
+        (GoalDistanceCritic(), p.goal_distance_bias),
+        (OccupancyCritic(footprint=p.footprint_check), p.occdist_scale),
+        (HeadingCritic(heading_lookahead=p.heading_lookahead), p.heading_scale),
     )
+    if p.stop_at_goal:  # arriving rollouts tie on path and goal distance: the first one wins
+        terms += ((ArrivalTimeCritic(), p.arrival_time_scale),)
+    return (Objective("navigation", terms),)
 
 
 def traditional_planner(
@@ -412,6 +448,8 @@ class LocalPlanner:
         trajs = rollout(
             ctx.pose, ctx.velocity, twists, self.robot, p, dtype=np.dtype(p.rollout_dtype).type
         )
+        if p.stop_at_goal and not _passing_waypoint(ctx):
+            trajs = stop_at_goal(trajs, ctx.goal, self._tolerances(ctx)[0])
         t2 = time.perf_counter()
         t["rollout"] = t2 - t1
         cycle.trajs = trajs

@@ -16,7 +16,11 @@
   its degeneracy remedies and an L1 target on the flattened front (the reference weights always
   pick an extreme of the front, and the robot stalls outside 1.5 m of a person in a 3 m
   corridor); a global path over a personal-space cost and the groups' o-spaces; the social-goal
-  objective only near the social goal; activity-space intrusion as an objective.
+  objective only near the social goal; activity-space intrusion as an objective; interaction
+  partners at the interaction's own distance in ID (``partner_objectives``); arrival inside
+  ``RECOMMENDED_SPOT_TOLERANCE`` with rollouts that stop at the goal and are ranked by arrival
+  time (``RECOMMENDED_PARAMS``). The last three were measured on the generated suite's
+  development seeds (``benchmarks/tune_generated.py``).
 
 Deviation shared by all social presets: navigation steers to the social goal (the Navigator
 plans to it); the paper kept the given goal and let ``SGD`` pull toward the social goal, so its
@@ -81,6 +85,8 @@ class PlannerPreset:
     social_global_path: bool = False
     predict_people: bool = True
     params: LocalPlannerParams = field(default_factory=LocalPlannerParams)
+    #: (m, rad) replacing the social goal's own arrival tolerances; None keeps them
+    spot_tolerance: tuple[float, float] | None = None
     order: int = 1000
     recovery: RecoveryParams = field(default_factory=RecoveryParams)
 
@@ -122,13 +128,19 @@ def paper_objectives(
 
 
 def recommended_objectives(
-    social: SocialContext, social_goal: bool, params: LocalPlannerParams
+    social: SocialContext,
+    social_goal: bool,
+    params: LocalPlannerParams,
+    partner_distance: bool = False,
 ) -> list[tuple[Objective, float]]:
     """Navigation (to the social goal), one ID over all people forecast along the rollout, GD,
-    SGD near the social goal, activity space."""
+    SGD near the social goal, activity space; ``partner_distance``: the people the social goal
+    is about get the interaction's own distance in ID (``InterpersonalCritic``)."""
     out = [(traditional_objectives(params)[0], PAPER_WEIGHTS["navigation"])]
     if social.people:
-        interpersonal = InterpersonalCritic(evaluation="max_over_time")
+        interpersonal = InterpersonalCritic(
+            evaluation="max_over_time", partner_distance=partner_distance
+        )
         out.append((Objective("ID", ((interpersonal, 1.0),)), PAPER_WEIGHTS["ID"]))
     if social.groups:
         group = GroupCritic(evaluation="max_over_time", illegal_inside=True)
@@ -142,6 +154,22 @@ def recommended_objectives(
         activity = ActivitySpaceCritic(measure="max_depth")
         out.append((Objective("AS", ((activity, 1.0),)), PAPER_WEIGHTS["AS"]))
     return out
+
+
+def partner_objectives(
+    social: SocialContext, social_goal: bool, params: LocalPlannerParams
+) -> list[tuple[Objective, float]]:
+    """:func:`recommended_objectives` with interaction partners at their own distance."""
+    return recommended_objectives(social, social_goal, params, partner_distance=True)
+
+
+#: ``paccet``'s arrival at a social spot (m, rad): inside the generated suite's 0.10 m / 0.2 rad
+#: (the social goals' default 0.25 m / 0.25 rad ends 0.24–0.25 m from the spot)
+RECOMMENDED_SPOT_TOLERANCE = (0.07, 0.15)
+#: ``paccet``'s local-planner parameters: the given goal's tolerance inside 0.10 m too.
+#: ``stop_at_goal`` stays off: with it, navground's Cross example ends in a collision with a
+#: crossing person (tests/integrations/test_navground_behavior.py), so it is an option only.
+RECOMMENDED_PARAMS = LocalPlannerParams(xy_goal_tolerance=0.07)
 
 
 def paper_selection(weights: list[float]) -> SelectionStrategy:
@@ -222,10 +250,12 @@ PRESETS.add(
     "paccet",
     PlannerPreset(
         "PaCcET, recommended: forecast people, L1 target, remedies on, social global path",
-        recommended_objectives,
+        partner_objectives,
         recommended_selection,
         social_goal=True,
         social_global_path=True,
+        params=RECOMMENDED_PARAMS,
+        spot_tolerance=RECOMMENDED_SPOT_TOLERANCE,
         order=80,
     ),
 )
@@ -239,8 +269,9 @@ class StickySocialGoal:
     moves. It is recomputed when any person moved more than ``moved`` metres.
     """
 
-    def __init__(self, moved: float = 0.3) -> None:
+    def __init__(self, moved: float = 0.3, tolerance: tuple[float, float] | None = None) -> None:
         self.moved = moved
+        self.tolerance = tolerance
         self._positions: np.ndarray | None = None
         self._goal: SocialGoal | None = None
 
@@ -258,6 +289,11 @@ class StickySocialGoal:
         )
         if stale:
             self._goal = resolve_social_goal(social, given_goal, pose)
+            if self._goal is not None and self.tolerance is not None and not self._goal.is_waypoint:
+                from dataclasses import replace
+
+                xy, yaw = self.tolerance
+                self._goal = replace(self._goal, position_tolerance=xy, yaw_tolerance=yaw)
             self._positions = positions
         return self._goal
 
@@ -358,7 +394,9 @@ def build_navigator(
         local,
         costmap,
         goal,
-        social_goal_fn=StickySocialGoal() if preset.social_goal else None,
+        social_goal_fn=StickySocialGoal(tolerance=preset.spot_tolerance)
+        if preset.social_goal
+        else None,
         predict_people=preset.predict_people,
         record=record,
         costmap_layer=layer,

@@ -17,7 +17,7 @@ import numpy as np
 from navground import core, sim
 
 from socialnav.core.errors import ConfigurationError
-from socialnav.sim.scenario import PersonSpec, Walk
+from socialnav.sim.scenario import PersonSpec, Track, Walk
 
 REACTIVE_BEHAVIORS = ("HL", "ORCA", "SocialForce")
 #: speed (m/s) of people who stand in scripted mode but move aside when reactive
@@ -51,6 +51,35 @@ class ScriptedHuman(core.Behavior):
         return core.Twist2((float(v[0]), float(v[1])), 0.0, frame=core.Frame.absolute)
 
 
+class TrackHuman(core.Behavior):
+    """Follows ``points (P, 2)`` sampled every ``track_dt`` seconds, then stops at the last
+    point; ignores everyone. Each command is the velocity that reaches the track's position at
+    the end of the step (linear interpolation), so the person is on the track at every step."""
+
+    def __init__(self, kinematics: core.Kinematics | None = None, radius: float = 0.0) -> None:
+        core.Behavior.__init__(self, kinematics, radius)
+        self.points = np.zeros((1, 2))
+        self.track_dt = 1.0
+        self.clock = 0.0
+
+    def position_at(self, t: float) -> np.ndarray:
+        """Track position ``(2,)`` at time ``t`` (s), clamped to the track's ends."""
+        s = np.clip(t / self.track_dt, 0.0, len(self.points) - 1)
+        k = min(int(s), len(self.points) - 2) if len(self.points) > 1 else 0
+        if len(self.points) == 1:
+            return self.points[0]
+        f = s - k
+        return (1.0 - f) * self.points[k] + f * self.points[k + 1]
+
+    def compute_cmd_internal(self, time_step: SupportsFloat) -> core.Twist2:
+        dt = float(time_step)
+        if dt <= 0.0:
+            return core.Twist2((0.0, 0.0), 0.0, frame=core.Frame.absolute)
+        self.clock += dt
+        v = (self.position_at(self.clock) - np.asarray(self.position, dtype=float)) / dt
+        return core.Twist2((float(v[0]), float(v[1])), 0.0, frame=core.Frame.absolute)
+
+
 def make_person_agent(
     person: PersonSpec, humans: str = "scripted", reactive_behavior: str = "HL"
 ) -> sim.Agent:
@@ -58,7 +87,20 @@ def make_person_agent(
     start = np.asarray(person.position, dtype=float)
     velocity = person.initial_velocity()
     speed = float(np.linalg.norm(velocity))
-    if humans == "scripted":
+    if humans == "scripted" and isinstance(person.behavior, Track):
+        track = TrackHuman()
+        track.points = np.asarray(person.behavior.points, dtype=float)
+        track.track_dt = float(person.behavior.dt)
+        steps = np.linalg.norm(np.diff(track.points, axis=0), axis=1)
+        top = float(steps.max() / track.track_dt) if steps.size else 0.0
+        agent = sim.Agent(
+            radius=person.radius,
+            behavior=track,
+            kinematics=core.kinematics.OmnidirectionalKinematics(2.0 * top + 0.1, 1.0),
+            control_period=0.0,
+            id=person.id,
+        )
+    elif humans == "scripted":
         scripted = ScriptedHuman()
         if isinstance(person.behavior, Walk):
             direction, speed = person.behavior.direction_speed()

@@ -188,6 +188,9 @@ def run_episode(
     wall_start = _time.perf_counter()
     scn = load_scenario(scenario) if isinstance(scenario, str) else scenario
     scn = scn.randomize(seed, vary_group_sizes=vary_group_sizes)
+    if scn.humans is not None:  # the scene needs its own human model (CrowdNav's ORCA crowd)
+        humans = scn.humans
+        reactive_behavior = scn.reactive_behavior or reactive_behavior
     model = _robot_model(robot)
     social0 = scn.social_context(scn.start)
     target = resolve_target(scn, social0)
@@ -265,7 +268,7 @@ def run_episode(
         goal_tolerance=float(scn.goal_tolerance),
         time_limit=float(scn.time_limit),
         family=scn.family,
-        success=scn.success_spec(),
+        success=scn.success_spec(model.name),
         scenario=scn.name,
         context=social0,
         meta={

@@ -47,7 +47,13 @@ from socialnav.core.scene import (
     SocialContext,
     Structure,
 )
-from socialnav.core.success import FAMILIES, ConditionOverride, ConditionSpec, apply_overrides
+from socialnav.core.success import (
+    FAMILIES,
+    ConditionOverride,
+    ConditionSpec,
+    apply_overrides,
+    judged_family,
+)
 from socialnav.social.spaces import fit_circle
 from socialnav.social.structures import (
     make_structure,
@@ -185,12 +191,31 @@ class Walk(_Model):
         return float(np.dot(np.asarray(self.until) - np.asarray(start), direction))
 
 
+class Track(_Model):
+    """A recorded or precomputed path: ``points[k]`` is the position at ``t = k·dt`` (s); the
+    person stops at the last point. People on a track ignore the robot (CrowdNav's "invisible
+    robot" test bank: the crowd's ORCA paths are computed without the robot)."""
+
+    type: Literal["track"] = "track"
+    dt: Positive
+    points: list[Vec2] = Field(min_length=2)
+
+    def direction_speed(self) -> tuple[FloatArray, float]:
+        """Unit direction ``(2,)`` and speed (m/s) of the first segment (a still first
+        segment gives direction +x and speed 0)."""
+        d = np.asarray(self.points[1], dtype=float) - np.asarray(self.points[0], dtype=float)
+        n = float(np.linalg.norm(d))
+        if n == 0.0:
+            return np.array([1.0, 0.0]), 0.0
+        return d / n, n / self.dt
+
+
 class PersonSpec(_Model):
     id: int
     position: Vec2
     yaw: Finite | None = Field(None, description="default: the walking heading, else 0")
     radius: Positive = HUMAN_RADIUS
-    behavior: Stand | Walk = Field(default_factory=Stand, discriminator="type")
+    behavior: Stand | Walk | Track = Field(default_factory=Stand, discriminator="type")
     reactive_goal: Vec2 | None = Field(
         None, description="target for --humans reactive (default: walk end, or stay in place)"
     )
@@ -199,6 +224,10 @@ class PersonSpec(_Model):
     def _check(self) -> PersonSpec:
         if isinstance(self.behavior, Walk) and self.behavior.length(self.position) <= 0:
             raise ValueError("behavior.until lies behind the start (or on it)")
+        if isinstance(self.behavior, Track) and tuple(self.behavior.points[0]) != tuple(
+            self.position
+        ):
+            raise ValueError("behavior.points.0 must equal position")
         return self
 
     @property
@@ -206,19 +235,21 @@ class PersonSpec(_Model):
         """The yaw the person faces (rad)."""
         if self.yaw is not None:
             return float(self.yaw)
-        if isinstance(self.behavior, Walk):
+        if isinstance(self.behavior, Walk | Track):
             d, _ = self.behavior.direction_speed()
             return float(math.atan2(d[1], d[0]))
         return 0.0
 
     def initial_velocity(self) -> FloatArray:
-        if isinstance(self.behavior, Walk):
+        if isinstance(self.behavior, Walk | Track):
             d, speed = self.behavior.direction_speed()
             return d * speed
         return np.zeros(2)
 
     def end_point(self) -> FloatArray | None:
-        """Where a scripted walk ends (``None`` for standing people or endless walks)."""
+        """Where a scripted walk or track ends (``None`` for standing people or endless walks)."""
+        if isinstance(self.behavior, Track):
+            return np.asarray(self.behavior.points[-1], dtype=float)
         if not isinstance(self.behavior, Walk):
             return None
         length = self.behavior.length(self.position)
@@ -248,11 +279,26 @@ class ArtworkSpec(_Model):
     viewers: list[int] = Field(default_factory=list)
 
 
-class SuccessOverride(_Model):
-    """A scenario's change to one success condition (``success: {NAME: {...}}``)."""
+class RobotSuccessOverride(_Model):
+    """A change to one success condition for one robot model (``success.NAME.per_robot``)."""
 
     required: bool | None = Field(None, description="whether the condition counts toward success")
     tolerance: Finite | None = Field(None, description="the condition's tolerance, in its unit")
+    reason: str | None = Field(None, description="why it is not required (shown in reports)")
+
+    def override(self) -> ConditionOverride:
+        tolerance = None if self.tolerance is None else float(self.tolerance)
+        return ConditionOverride(self.required, tolerance, self.reason)
+
+
+class SuccessOverride(RobotSuccessOverride):
+    """A scenario's change to one success condition (``success: {NAME: {...}}``);
+    ``per_robot`` changes it further for one robot model (a corridor wide enough for one
+    robot's clearance may not be for another's)."""
+
+    per_robot: dict[str, RobotSuccessOverride] = Field(
+        default_factory=dict, description="robot model name → its own change of this condition"
+    )
 
 
 def _known_family(value: str) -> str:
@@ -275,6 +321,11 @@ class Jitter(_Model):
     speed_uniform: NonNegative = Field(0.0, description="uniform ± on walking speeds (m/s)")
     start_shift: NonNegative = Field(
         0.0, description="uniform ± shift of a walker's start along its walking line (m)"
+    )
+    lateral_shift: NonNegative = Field(
+        0.0,
+        description="uniform ± shift of a walker's whole line sideways, perpendicular to its "
+        "walking direction (m); drawn from its own stream, so other draws do not change",
     )
 
 
@@ -309,6 +360,17 @@ class Scenario(_Model):
     control_period: Positive = 0.1
     seed: int = 0
     jitter: Jitter = Field(default_factory=Jitter)
+    humans: Literal["scripted", "reactive"] | None = Field(
+        None, description="the human model this scene needs (overrides the run's default)"
+    )
+    reactive_behavior: Literal["HL", "ORCA", "SocialForce"] | None = Field(
+        None, description="navground behaviour of reactive people (default HL)"
+    )
+    feasibility: dict[str, dict[str, float | bool | str]] = Field(
+        default_factory=dict,
+        description="facts per robot model that the success conditions rely on (generated "
+        "scenes: largest clearance per person, passage, reachable social spot)",
+    )
 
     _source: Path | None = PrivateAttr(default=None)
 
@@ -382,16 +444,22 @@ class Scenario(_Model):
             make_structure(s, where=f"structures.{i}") for i, s in enumerate(self.structures)
         )
 
-    def success_spec(self) -> tuple[ConditionSpec, ...]:
-        """The conditions this scenario is judged on: its family's, its structures', with its
-        ``success:`` overrides applied. Raises ``ConfigurationError`` for an override of a
-        condition that does not apply."""
-        specs = FAMILIES.get(self.family).conditions + structure_conditions(self.structure_list())
-        overrides = {
-            k: ConditionOverride(v.required, None if v.tolerance is None else float(v.tolerance))
-            for k, v in self.success.items()
-        }
-        return apply_overrides(specs, overrides, where=self.name)
+    def family_conditions(self) -> tuple[ConditionSpec, ...]:
+        """The family's and structures' conditions, before this scenario's overrides (a
+        ``mixed`` scene is judged as ``queue`` when it has a queue, else as ``group``)."""
+        family = judged_family(self.family, bool(self.queues))
+        return FAMILIES.get(family).conditions + structure_conditions(self.structure_list())
+
+    def success_spec(self, robot: str = "") -> tuple[ConditionSpec, ...]:
+        """The conditions this scenario is judged on: :meth:`family_conditions` with its
+        ``success:`` overrides applied, then those of ``per_robot[robot]``. Raises
+        ``ConfigurationError`` for an override of a condition that does not apply."""
+        specs = self.family_conditions()
+        specs = apply_overrides(
+            specs, {k: v.override() for k, v in self.success.items()}, where=self.name
+        )
+        per_robot = {k: v.per_robot[robot] for k, v in self.success.items() if robot in v.per_robot}
+        return apply_overrides(specs, {k: o.override() for k, o in per_robot.items()}, self.name)
 
     def context_with_people(self, people: tuple[Person, ...]) -> SocialContext:
         """Groups, queues, artworks and structures of this scenario around the given people."""
@@ -557,6 +625,7 @@ class Scenario(_Model):
         rest of the circle, facing the centre (queue/artwork people are never moved off).
         """
         rng = np.random.default_rng(seed)
+        lateral_rng = np.random.default_rng([seed, 1])  # own stream: older draws unchanged
         j = self.jitter
         people: list[PersonSpec] = []
         for p in self.people:
@@ -564,12 +633,21 @@ class Scenario(_Model):
             d_pos = rng.normal(0.0, 1.0, 2) * j.position_sigma
             d_speed = rng.normal(0.0, 1.0) * j.speed_sigma + rng.uniform(-1, 1) * j.speed_uniform
             d_start = rng.uniform(-1, 1) * j.start_shift
+            d_lateral = lateral_rng.uniform(-1, 1) * j.lateral_shift
+            if isinstance(p.behavior, Track):  # a track is data: never jittered
+                people.append(p)
+                continue
             pos = np.asarray(p.position, dtype=float) + d_pos
             update: dict[str, Any] = {}
             if isinstance(p.behavior, Walk):
                 direction, speed = p.behavior.direction_speed()
-                pos = pos + direction * d_start
+                normal = np.array([-direction[1], direction[0]])
+                pos = pos + direction * d_start + normal * d_lateral
                 new_speed = max(speed + d_speed, 0.05)
+                shifted = {}
+                if p.behavior.until is not None and d_lateral:
+                    until = np.asarray(p.behavior.until, dtype=float) + normal * d_lateral
+                    shifted["until"] = (float(until[0]), float(until[1]))
                 walk = p.behavior.model_copy(
                     update={
                         "velocity": (
@@ -578,6 +656,7 @@ class Scenario(_Model):
                         ),
                         "speed": None,
                         "heading": None,
+                        **shifted,
                     }
                 )
                 update["behavior"] = walk

@@ -210,7 +210,7 @@ class SocialNavEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         self._recorder = EpisodeRecorder(
             self.robot.polygon, self._sim.people_ids, self._radii, self._static
         )
-        self._success_spec = scn.success_spec()
+        self._success_spec = scn.success_spec(self.robot.name)
         # Arrival as the reached_goal condition judges it: max(goal_tolerance, its tolerance).
         reached = [c.tolerance for c in self._success_spec if c.name == "reached_goal"]
         self._arrival_tolerance = max([float(scn.goal_tolerance)] + [t for t in reached if t])

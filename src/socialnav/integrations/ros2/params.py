@@ -99,6 +99,8 @@ _PLANNER: dict[str, tuple[float | None, float | None, str]] = {
     "xy_goal_tolerance": (0.01, 5.0, "m, goal position tolerance"),
     "yaw_goal_tolerance": (0.01, math.pi, "rad, goal orientation tolerance"),
     "latch_xy_goal_tolerance": (None, None, "once inside xy tolerance, only rotate"),
+    "stop_at_goal": (None, None, "rollouts that reach the goal stand on it (no slow approach)"),
+    "arrival_time_scale": (0.0, 100.0, "weight per s of the arrival time when stop_at_goal"),
     "trans_stopped_vel": (0.0, 1.0, "m/s, below this the robot counts as stopped"),
     "theta_stopped_vel": (0.0, 1.0, "rad/s, below this the robot counts as not turning"),
     "path_distance_bias": (0.0, 100.0, "weight of the distance to the global path"),

@@ -1,11 +1,12 @@
 """Critics: one small unit per cost term, each behind the :class:`Critic` interface.
 
-Importing a critic module registers it in :data:`CRITICS`: navigation critics (goal_distance,
-heading, occupancy, path_distance) and social critics (activity_space, group, interpersonal,
-social_goal).
+Importing a critic module registers it in :data:`CRITICS`: navigation critics (arrival_time,
+goal_distance, heading, occupancy, path_distance) and social critics (activity_space, group,
+interpersonal, social_goal).
 """
 
 from socialnav.planner.critics.activity_space import ActivitySpaceCritic
+from socialnav.planner.critics.arrival import ArrivalTimeCritic
 from socialnav.planner.critics.base import (
     CRITICS,
     Critic,
@@ -24,6 +25,7 @@ from socialnav.planner.critics.social_goal import SocialGoalCritic
 __all__ = [
     "CRITICS",
     "ActivitySpaceCritic",
+    "ArrivalTimeCritic",
     "Critic",
     "CriticScore",
     "CriticUnavailable",

@@ -17,6 +17,14 @@ Deviations and choices:
 - ``person_slot=None`` aggregates over people by the maximum; ``person_slot=k`` scores only the
   k-th nearest person to the robot at cycle start (0 = nearest; ties by person order; cost 0
   when there are fewer people), so ``ID_f1 … ID_fn`` can be separate objectives.
+- Interaction partners (``partner_distance=True``, off by default: the paper has no such rule):
+  when the robot steers to a stopping social goal, the people of a structure (group member,
+  queue member, artwork viewer) nearer the spot than ``threshold`` are the people it joins,
+  queues behind or presents to; their threshold becomes the distance the spot itself keeps
+  from them less ``partner_margin`` (the formation's member spacing, the queue spacing, the
+  presenter's distance), and their distance is scaled by ``threshold / own threshold`` so the
+  cost has the paper's shape relative to the interaction's distance. Without it the objective
+  forbids what the social goal asks for (the robot stalls ~1.5 m from its partners).
 - Collisions: a trajectory whose footprint disc (``footprint_disc`` radius: the inscribed circle
   by default — the occupancy critic handles corners against walls; choose ``circumscribed`` to be
   conservative) overlaps a person's disc at any rollout time (people forecast by
@@ -109,6 +117,31 @@ def min_squared_distances(
     return d2min
 
 
+def partner_thresholds(ctx: PlanningContext, threshold: float, margin: float) -> FloatArray:
+    """Per person ``(K,)``: ``threshold`` (m), or for an interaction partner of the stopping
+    social goal the spot's own distance to them less ``margin`` (see the module docstring)."""
+    social = ctx.social
+    out = np.full(len(social.people), float(threshold))
+    sg = ctx.social_goal
+    if sg is None or getattr(sg, "is_waypoint", False) or not social.people:
+        return out
+    spot = np.asarray(sg.pose, dtype=float)[:2]
+    if not np.allclose(np.asarray(sg.pose, dtype=float), ctx.goal):
+        return out  # steering elsewhere (e.g. a waypoint first): nobody is a partner yet
+    members: set[int] = set()
+    for g in social.groups:
+        members.update(g.member_ids)
+    for q in social.queues:
+        members.update(q.member_ids)
+    for a in social.artworks:
+        members.update(a.viewer_ids)
+    gaps = np.linalg.norm(social.positions() - spot, axis=1)
+    for k, person in enumerate(social.people):
+        if person.id in members and gaps[k] < threshold:
+            out[k] = max(float(gaps[k]) - margin, 1e-3)
+    return out
+
+
 @CRITICS.register("interpersonal")
 @dataclass(frozen=True)
 class InterpersonalCritic(Critic):
@@ -129,6 +162,8 @@ class InterpersonalCritic(Critic):
     min_distance: float = 0.1
     footprint_disc: Literal["inscribed", "circumscribed"] = "inscribed"
     collision_check: bool = True
+    partner_distance: bool = False
+    partner_margin: float = 0.05
 
     def __post_init__(self) -> None:
         if not self.threshold > 0 or not self.min_distance > 0:
@@ -180,6 +215,9 @@ class InterpersonalCritic(Critic):
             d = np.sqrt(d2min)
         if self.distance == "edge":
             d = np.maximum(d - radii - robot_r, 0.0)
+        if self.partner_distance:
+            own = partner_thresholds(ctx, self.threshold, self.partner_margin)  # (K,)
+            d = d * (self.threshold / own)[None, :]
         f = capped_inverse_exp(d, self.threshold, self.min_distance)  # (N, K)
 
         if self.person_slot is None:

@@ -1,0 +1,144 @@
+"""Generated hallways: a straight corridor, 0–3 people standing or walking.
+
+Ranges: width 2.2–4.0 m, length 12–16 m; the robot drives from x = 3 m to 2 m before the far
+end, its lateral offset within ±0.3·(half width − 0.6) m; 0–3 people, in units of one person
+or two side by side (0.6–0.8 m apart), standing (30 %) or walking at 0.3–1.5 m/s, from the far
+end toward the robot or from behind it (the robot's end) in its direction, on either side
+(lateral offset up to half width − 0.4 m). People ignore the robot (the paper's model).
+
+Feasibility facts per robot model (the robot drives along the corridor, so its footprint's
+half width ``w`` limits it to ``|y| <= W/2 − w − 0.05``):
+- ``max_clearance_<id>``: the largest centre-to-centre distance from person ``id`` the corridor
+  allows while passing (for a side-by-side pair, on the side that is best for both);
+- ``passage``: a gap of at least the robot's width + 0.1 m exists beside every unit.
+No passage for some robot → the scene is drawn again. A clearance below the 1.2 m personal
+space (+0.05 m) marks ``no_personal_space_intrusion`` not required for that robot, with the
+reason.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from socialnav.sim.generate.common import (
+    GENERATORS,
+    ROBOTS,
+    Generator,
+    Infeasible,
+    half_width,
+    r3,
+    robot_model,
+    success_options,
+    time_limit_for,
+    uniform,
+    xy,
+)
+from socialnav.sim.scenario import PersonSpec, RobotSuccessOverride, Scenario, Stand, Walk
+from socialnav.social.proxemics import PERSONAL
+
+WIDTH = (2.2, 4.0)
+LENGTH = (12.0, 16.0)
+SPEED = (0.3, 1.5)
+PAIR_GAP = (0.6, 0.8)
+START_X = 3.0
+WALL_MARGIN = 0.4  # person centre to wall (m): radius 0.25 + a shoulder's room
+CLEARANCE_MARGIN = 0.05
+
+
+def draw(rng: np.random.Generator, name: str) -> Scenario:
+    width, length = uniform(rng, *WIDTH), uniform(rng, *LENGTH)
+    half = width / 2.0
+    y0 = uniform(rng, -1.0, 1.0) * 0.3 * max(half - 0.6, 0.0)
+    start, goal = (START_X, y0, 0.0), (length - 2.0, y0, 0.0)
+    n_people = int(rng.integers(0, 4))
+    units: list[list[float]] = []  # lateral offsets of each unit's members
+    people: list[PersonSpec] = []
+    pid = 1
+    while sum(len(u) for u in units) < n_people:
+        left = n_people - sum(len(u) for u in units)
+        pair = left >= 2 and rng.random() < 0.4
+        side = 1.0 if rng.random() < 0.5 else -1.0
+        lim = half - WALL_MARGIN
+        if pair:
+            gap = uniform(rng, *PAIR_GAP)
+            if 2 * lim < gap:
+                raise Infeasible("corridor too narrow for a pair")
+            inner = uniform(rng, -lim, lim - gap) * side
+            lateral = sorted([inner, inner + side * gap])
+        else:
+            lateral = [side * uniform(rng, 0.0, lim)]
+        standing = rng.random() < 0.3
+        from_front = rng.random() < 0.6
+        if standing:
+            x = uniform(rng, START_X + 2.5, length - 4.0)
+        elif from_front:
+            x = uniform(rng, length - 4.0, length - 0.6)
+        else:
+            x = uniform(rng, 0.5, START_X - 1.6)
+        speed = uniform(rng, *SPEED)
+        for y in lateral:
+            if standing:
+                behavior: Stand | Walk = Stand()
+                yaw = float(np.pi if rng.random() < 0.5 else 0.0)
+            else:
+                vx = -speed if from_front else speed
+                end_x = 0.5 if from_front else length - 0.5
+                behavior = Walk(velocity=(r3(vx), 0.0), until=(r3(end_x), r3(y)))
+                yaw = None
+            people.append(PersonSpec(id=pid, position=xy((x, y)), yaw=yaw, behavior=behavior))
+            pid += 1
+        units.append(lateral)
+    ids = [p.id for p in people]
+    walls = [
+        ((0.0, -half), (length, -half)),
+        ((0.0, half), (length, half)),
+        ((0.0, -half), (0.0, half)),
+        ((length, -half), (length, half)),
+    ]
+    feasibility: dict[str, dict[str, float | bool | str]] = {}
+    per_robot: dict[str, dict[str, RobotSuccessOverride]] = {}
+    for robot_name in ROBOTS:
+        w = half_width(robot_model(robot_name))
+        y_lim = half - w - CLEARANCE_MARGIN
+        facts: dict[str, float | bool | str] = {"corridor_width": r3(width)}
+        worst = np.inf
+        k = 0
+        for unit in units:
+            best = max(min(abs(s * y_lim - y) for y in unit) for s in (1.0, -1.0))
+            # free room beside the unit on its roomier side, wall to nearest member's edge
+            room = max(half - max(unit) - 0.25, min(unit) + half - 0.25)
+            if room < 2 * w + 0.1:
+                raise Infeasible(f"{robot_name}: no passage beside a person")
+            for _ in unit:
+                facts[f"max_clearance_{ids[k]}"] = r3(best)
+                k += 1
+            worst = min(worst, best)
+        facts["passage"] = True
+        if np.isfinite(worst) and worst < PERSONAL + CLEARANCE_MARGIN:
+            facts["personal_space_feasible"] = False
+            per_robot[robot_name] = {
+                "no_personal_space_intrusion": RobotSuccessOverride(
+                    required=False,
+                    reason=f"the corridor allows at most {worst:.2f} m from a person "
+                    f"(< {PERSONAL} m) for {robot_name}",
+                )
+            }
+        else:
+            facts["personal_space_feasible"] = True
+        feasibility[robot_name] = facts
+    return Scenario(
+        name=name,
+        family="hallway",
+        description=f"generated hallway: width {width:.2f} m, {len(people)} people",
+        map={"walls": walls},
+        start=start,
+        goal=goal,
+        goal_tolerance=0.1,
+        people=people,
+        time_limit=time_limit_for(goal[0] - start[0]),
+        success=success_options("hallway", False, per_robot),
+        feasibility=feasibility,
+    )
+
+
+GENERATORS.add("hallway", Generator("hallway", __doc__ or "", draw))

@@ -1,0 +1,126 @@
+"""The planner options that make ``paccet`` generalize: interaction partners at the
+interaction's own distance, and rollouts that stop at the goal (no slow final approach)."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+from test_social_critics import make_ctx, straight
+
+from socialnav.core.robot import PR2
+from socialnav.core.scene import Group, Person, Queue, SocialContext
+from socialnav.core.trajectories import Trajectories
+from socialnav.planner.critics.interpersonal import InterpersonalCritic, partner_thresholds
+from socialnav.planner.local_planner import stop_at_goal
+from socialnav.social.goals import SocialGoal, o_formation_join_pose
+
+MEMBERS = [(0.0, 0.9), (-0.9, 0.0), (0.0, -0.9)]  # the paper's group_join, centred at 0
+WALKER = (3.0, 3.0)
+
+
+def group_scene():
+    people = (*tuple(Person(i + 1, p) for i, p in enumerate(MEMBERS)), Person(9, WALKER))
+    social = SocialContext(people, groups=(Group((1, 2, 3), "join"),))
+    goal = o_formation_join_pose(np.array(MEMBERS))
+    ctx = dataclasses.replace(make_ctx(social=social, social_goal=goal), goal=goal.pose)
+    return ctx, goal
+
+
+def test_partners_get_the_spots_own_distance_others_keep_1_5_m():
+    ctx, goal = group_scene()
+    own = partner_thresholds(ctx, 1.5, 0.05)
+    gaps = np.linalg.norm(np.array(MEMBERS) - goal.pose[:2], axis=1)
+    for k, gap in enumerate(gaps):
+        expected = gap - 0.05 if gap < 1.5 else 1.5
+        assert own[k] == pytest.approx(expected)
+    assert own[3] == 1.5  # the walker is nobody's partner
+
+
+def test_bug_id_objective_forbids_the_join_spot_without_partner_distance():
+    """The issue's stall: ID > 0 at the very spot the social goal asks for."""
+    ctx, goal = group_scene()
+    trajs = straight([goal.pose[:2]], start=(4.0, 0.0))
+    plain = InterpersonalCritic(evaluation="max_over_time").score(trajs, ctx).cost
+    partner = InterpersonalCritic(evaluation="max_over_time", partner_distance=True)
+    assert plain[0] > 1.0
+    assert partner.score(trajs, ctx).cost[0] == 0.0
+    # a step inside the formation still costs: the interaction's distance is a threshold too
+    inside = straight([goal.pose[:2] * 0.5], start=(4.0, 0.0))
+    assert partner.score(inside, ctx).cost[0] > 0.0
+
+
+def test_no_partners_when_not_steering_to_a_stopping_social_goal():
+    ctx, goal = group_scene()
+    elsewhere = dataclasses.replace(ctx, goal=np.array([5.0, 5.0, 0.0]))
+    assert np.all(partner_thresholds(elsewhere, 1.5, 0.05) == 1.5)
+    wp = SocialGoal(goal.pose, "waypoint", is_waypoint=True)
+    waypoint = dataclasses.replace(ctx, social_goal=wp)
+    assert np.all(partner_thresholds(waypoint, 1.5, 0.05) == 1.5)
+    nobody = dataclasses.replace(ctx, social_goal=None)
+    assert np.all(partner_thresholds(nobody, 1.5, 0.05) == 1.5)
+
+
+def test_queue_partner_is_the_person_ahead():
+    people = (Person(1, (0.0, 0.0)), Person(2, (0.0, -0.8)))
+    social = SocialContext(people, queues=(Queue((1, 2), (0.0, 0.6), 0.8),))
+    tail = SocialGoal(np.array([0.0, -1.6, np.pi / 2]), "queue_tail")
+    ctx = dataclasses.replace(make_ctx(social=social, social_goal=tail), goal=tail.pose)
+    own = partner_thresholds(ctx, 1.5, 0.05)
+    assert own[1] == pytest.approx(0.75)  # queue spacing less the margin
+    assert own[0] == 1.5  # 1.6 m away: beyond the 1.5 m threshold anyway
+
+
+def test_stop_at_goal_holds_each_rollout_at_its_first_pose_inside_the_tolerance():
+    t = np.linspace(0.0, 1.0, 11)
+    xs = np.stack([t * 2.0, t * 0.5])  # fast (passes the goal at x = 1) and slow (never reaches)
+    poses = np.zeros((2, 11, 3))
+    poses[..., 0] = xs
+    trajs = Trajectories(np.zeros((2, 3)), poses, t)
+    out = stop_at_goal(trajs, np.array([1.0, 0.0, 0.0]), 0.25)
+    # the first sample within 0.25 m of x = 1 is x = 0.8 (t = 0.4): arrived, on the goal since
+    assert out.poses[0, 4:, 0] == pytest.approx(1.0)
+    assert out.poses[0, 3, 0] == pytest.approx(0.6)
+    assert np.all(np.diff(out.poses[0, :, 0]) >= 0.0)
+    np.testing.assert_array_equal(out.poses[1], trajs.poses[1])
+    same = stop_at_goal(trajs, np.array([10.0, 0.0, 0.0]), 0.1)
+    assert same is trajs
+
+
+def test_paccet_preset_tightens_the_spot_tolerance_and_leaves_stop_at_goal_off():
+    from socialnav.planner.presets import PRESETS
+
+    preset = PRESETS.get("paccet")
+    assert not preset.params.stop_at_goal  # an option: it collides in navground's Cross
+    assert preset.spot_tolerance is not None and preset.spot_tolerance[0] < 0.10
+    assert not PRESETS.get("traditional").params.stop_at_goal
+    assert PR2.name == "pr2"
+
+
+def test_arrival_time_prefers_the_rollout_that_arrives_first():
+    from socialnav.planner.critics.arrival import ArrivalTimeCritic
+
+    t = np.linspace(0.0, 1.0, 11)
+    poses = np.zeros((3, 11, 3))
+    poses[0, :, 0] = t * 2.0  # arrives at t = 0.4 (x = 0.8, within 0.25 m of x = 1)
+    poses[1, :, 0] = t * 1.0  # arrives at t = 0.8
+    poses[2, :, 0] = t * 0.2  # never arrives
+    trajs = stop_at_goal(Trajectories(np.zeros((3, 3)), poses, t), np.array([1.0, 0.0, 0.0]), 0.25)
+    ctx = dataclasses.replace(make_ctx(), goal=np.array([1.0, 0.0, 0.0]))
+    cost = ArrivalTimeCritic().score(trajs, ctx).cost
+    np.testing.assert_allclose(cost, [0.4, 0.8, 1.1])
+
+
+def test_rollouts_do_not_stop_at_a_waypoint_they_pass_through():
+    """Gallery passing got STUCK beside the viewer: snapping rollouts onto a 0.5 m waypoint hid
+    their real end points (nearer the viewer) from the social critics."""
+    from socialnav.planner.local_planner import _passing_waypoint
+
+    wp = SocialGoal(np.array([1.0, 2.0, 0.0]), "waypoint", is_waypoint=True)
+    ctx = dataclasses.replace(make_ctx(social_goal=wp), goal=wp.pose)
+    assert _passing_waypoint(ctx)
+    after = dataclasses.replace(ctx, goal=np.array([6.0, 2.0, 0.0]))  # waypoint passed
+    assert not _passing_waypoint(after)
+    spot = SocialGoal(np.array([1.0, 2.0, 0.0]), "queue_tail")
+    assert not _passing_waypoint(dataclasses.replace(ctx, social_goal=spot))

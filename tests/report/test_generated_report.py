@@ -1,0 +1,49 @@
+"""The generated suite's report from hand-made rows: Wilson intervals per family and robot,
+time ratios over scenes both pass, CrowdNav's terms, the worst failures with a rerun command."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from socialnav.report.build import wilson_interval
+from socialnav.report.generated import build_generated_report
+
+
+def row(family, planner, robot, seed, ok, time, **extra):
+    return {
+        "scenario": f"generated:{family}",
+        "planner": planner,
+        "robot": robot,
+        "seed": seed,
+        "run_id": f"gen_{family}__{planner}__{robot}__scripted__s{seed}",
+        "error": None,
+        "success": float(ok),
+        "ok_reached_goal": ok,
+        "ok_no_collision": True,
+        "time_to_goal": time,
+        "collisions": 0.0,
+        "collisions_person": 0.0,
+        "discomfort": 0.1,
+        "failed_required": "" if ok else "at_tail_slot",
+        "not_required": "",
+        **extra,
+    }
+
+
+def test_report_numbers(tmp_path: Path):
+    rows = []
+    for seed in range(10000, 10010):
+        rows.append(row("queue", "paccet", "pr2", seed, seed != 10003, 12.0))
+        rows.append(row("queue", "hl", "pr2", seed, seed < 10005, 10.0))
+        rows.append(row("crowdnav", "paccet", "pr2", seed, True, 20.0))
+    report = build_generated_report(rows, tmp_path).read_text()
+    assert "reporting split" in report
+    lo, hi = wilson_interval(9, 10)
+    assert f"9/10 (90%) [{lo:.2f}, {hi:.2f}]" in report
+    assert "5/10 (50%)" in report
+    # paccet/hl time over the 4 queue scenes both pass: 12 / 10
+    assert "| hl | pr2 | 4 | 1.20 | 1.20 |" in report
+    assert "CrowdNav test bank" in report
+    # the failure, with the command that reruns it
+    assert "--families queue --seeds 10003:10004 --planners paccet --robots pr2" in report
+    assert "at_tail_slot" in report
