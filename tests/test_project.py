@@ -66,3 +66,5 @@ def test_readme_duckdb_query_runs_on_stored_results(tmp_path, monkeypatch) -> No
     rows = namespace["result"].fetchall()  # type: ignore[attr-defined]
     assert sorted(r[0] for r in rows) == ["hl", "orca"]
     assert all(r[1] == "pr2" and r[2] == 1 and r[3] in (0.0, 1.0) for r in rows)
+    # the mean time is over arrivals: a planner that arrived has a number, not NaN
+    assert all(r[4] is not None and r[4] == r[4] for r in rows if r[3] == 1.0)

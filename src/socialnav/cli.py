@@ -496,13 +496,17 @@ def ros2(
     from socialnav.integrations.ros2 import INSTALL_HINT
     from socialnav.integrations.ros2.params import load_params_file
 
+    # the params file is checked even without ROS, and a missing extra is always named
+    problems = []
     if params is not None:
         try:
             load_params_file(params)
         except ConfigurationError as exc:
-            _fail(str(exc))
+            problems.append(str(exc))
     if importlib.util.find_spec("rclpy") is None:
-        _fail(INSTALL_HINT)
+        problems.append(INSTALL_HINT)
+    if problems:
+        _fail("\n".join(problems))
     from socialnav.integrations.ros2.node import main
 
     extra = [a for a in ctx.args if a != "--ros-args"]

@@ -157,6 +157,16 @@ def test_ros2_command_without_the_extra_says_how_to_install(tmp_path: Path) -> N
     assert "pip install 'socialnav[ros]'" in result.output
 
 
+@pytest.mark.skipif(importlib.util.find_spec("rclpy") is not None, reason="rclpy installed")
+def test_ros2_command_without_the_extra_names_it_even_when_the_params_file_is_bad(
+    tmp_path: Path,
+) -> None:
+    result = CliRunner().invoke(app, ["ros2", "--params", str(tmp_path / "missing.yaml")])
+    assert result.exit_code == 2
+    assert "no such params file" in result.output
+    assert "pip install 'socialnav[ros]'" in result.output
+
+
 def test_ros2_command_checks_the_params_file_first(tmp_path: Path) -> None:
     path = write(tmp_path, "socialnav:\n  ros__parameters:\n    max_vel_x: -1.0\n")
     result = CliRunner().invoke(app, ["ros2", "--params", str(path)])
