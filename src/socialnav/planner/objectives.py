@@ -146,6 +146,13 @@ def prepare(
     _REUSE.keep(key, ctx)
 
 
+#: Illegal reasons that yield when nothing else is left: if no trajectory is legal under them,
+#: the cycle keeps the trajectories legal under the other reasons (``("objectives",
+#: "soft_relaxed")`` counts them). Overlap with a person who walks into the robot whatever it
+#: does is unavoidable; moving toward them (``person_approach``) is not, and stays hard.
+SOFT_REASONS = frozenset({"person_collision"})
+
+
 def evaluate(
     objectives: Sequence[Objective],
     trajs: Trajectories,
@@ -160,6 +167,7 @@ def evaluate(
     raw: dict[str, FloatArray] = {}
     rejected: dict[tuple[str, str], int] = {}
     legal = np.ones(n, dtype=bool)
+    soft = np.ones(n, dtype=bool)
     for critic, key in keys.items():
         start = time.perf_counter()
         result = critic.score(trajs, ctx)
@@ -167,7 +175,14 @@ def evaluate(
         raw[key] = np.asarray(result.cost, dtype=float)
         for reason, mask in result.illegal.items():
             rejected[(key, reason)] = int(np.count_nonzero(mask))
-            legal &= ~np.asarray(mask, dtype=bool)
+            if reason in SOFT_REASONS:
+                soft &= ~np.asarray(mask, dtype=bool)
+            else:
+                legal &= ~np.asarray(mask, dtype=bool)
+    if (legal & soft).any():
+        legal &= soft
+    elif legal.any():
+        rejected[("objectives", "soft_relaxed")] = int(np.count_nonzero(legal))
     # Critics promise finite costs on legal rows; a non-finite one is treated as illegal.
     F = np.zeros((n, len(objectives)))
     for j, obj in enumerate(objectives):

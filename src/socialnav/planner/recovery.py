@@ -48,6 +48,7 @@ from socialnav.core.geometry import FloatArray, wrap_angle
 from socialnav.core.robot import RobotModel
 from socialnav.core.trajectories import Trajectories
 from socialnav.planner.context import PlanningContext
+from socialnav.planner.critics.interpersonal import approaches
 from socialnav.planner.critics.occupancy import OccupancyCritic
 from socialnav.planner.evasion import evasion_gaps, evasion_twists, time_to_collision
 from socialnav.planner.limits import CycleClock
@@ -59,6 +60,8 @@ from socialnav.world.grid import INSCRIBED
 
 _ACTIVE = (PlannerStatus.OK, PlannerStatus.NO_LEGAL_TRAJECTORY)
 _AT_GOAL = (PlannerStatus.GOAL_REACHED, PlannerStatus.ROTATING_TO_GOAL)
+#: closing speed (m/s) on a touched person that rules an evasive move out (as the critic's)
+APPROACH_SPEED = 0.02
 
 
 @dataclass(frozen=True)
@@ -269,7 +272,12 @@ class RecoveringPlanner:
         static = self._static_ok(ctx, trajs)
         if not static[1:].any():
             return None
-        gaps = np.where(static, gaps, -np.inf)
+        # Never an evasive move that closes on anyone it touches (people forecast, standing
+        # ones included): an evasion must not turn a passive contact into an active one.
+        closing = self._approaching(ctx, trajs)
+        if not (static & ~closing)[1:].any():
+            return None
+        gaps = np.where(static & ~closing, gaps, -np.inf)
         # Progress toward the local goal breaks near-ties (within 5 cm of the best gap).
         progress = -np.hypot(*(trajs.end_poses[:, :2] - ctx.goal[:2]).T)
         best_gap = float(gaps.max())
@@ -280,6 +288,13 @@ class RecoveringPlanner:
         who = int(np.flatnonzero(sel)[int(np.argmin(ttc))])
         why = f"evading person {people[who].id} (time to collision {float(ttc.min()):.2f} s)"
         return self._out(twists[k].copy(), PlannerStatus.EVADING, result.record, why)
+
+    def _approaching(self, ctx: PlanningContext, trajs: Trajectories) -> np.ndarray:
+        """``(N,)`` rollouts moving toward a person they touch (``critics.interpersonal``)."""
+        contact = ctx.social.radii() + self.robot.circumscribed_radius
+        forecast = ctx.people_at(trajs.t)  # (T, K, 2)
+        d2 = ((trajs.xy[:, :, None, :] - forecast[None]) ** 2).sum(axis=-1).min(axis=1)
+        return approaches(trajs, ctx, d2, contact, APPROACH_SPEED)
 
     def _static_ok(self, ctx: PlanningContext, trajs: Trajectories) -> np.ndarray:
         """Legal against the local costmap (people discs included: moving away is allowed)."""

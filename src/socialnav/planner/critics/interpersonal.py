@@ -31,6 +31,14 @@ Deviations and choices:
   ``ctx.people_at``) is illegal, reason ``person_collision`` — except against a person already
   overlapping it now, where only a trajectory that ever gets closer to them is (escape from
   overlap: the robot can always drive away from someone touching it).
+- Closing on a person (``approach_check``, on by default): a trajectory that moves toward a
+  person's forecast position while its circumscribed disc touches theirs — the robot's own step
+  between two rollout samples has a component above ``approach_speed`` (m/s) toward them at a
+  sample in contact — is illegal, reason ``person_approach``. This is the rollout form of an
+  *active* collision (Francis et al. 2023; ``socialnav.metrics.crowd``). ``person_collision``
+  (any overlap) is a *soft* reason (``objectives.SOFT_REASONS``): when a person walks into the
+  robot whatever it does, it is dropped for the cycle, so the planner still chooses among the
+  trajectories that stand still or move away (passive contact) instead of having none.
 - Speed, not behaviour: the per-time distances enter only through their minimum over time
   (``f`` is non-increasing; a collision at some time is ``min d² < r²``), so the ``(N, K)``
   minimum is computed once per cycle and shared by every interpersonal critic (the paper's
@@ -164,6 +172,8 @@ class InterpersonalCritic(Critic):
     collision_check: bool = True
     partner_distance: bool = False
     partner_margin: float = 0.05
+    approach_check: bool = True
+    approach_speed: float = 0.02
 
     def __post_init__(self) -> None:
         if not self.threshold > 0 or not self.min_distance > 0:
@@ -205,6 +215,8 @@ class InterpersonalCritic(Critic):
                     reach = reach + radii + robot_r
             if self.collision_check:
                 reach = np.maximum(reach, radii + robot_r)
+                if self.approach_check:
+                    reach = np.maximum(reach, radii + ctx.robot.circumscribed_radius)
             d2min = min_squared_distances(trajs, ctx, reach)  # (N, K)
 
         if self.evaluation == "last":
@@ -244,4 +256,44 @@ class InterpersonalCritic(Critic):
                     dj = ((xy - forecast[None, :, j]) ** 2).sum(axis=-1)  # (N, T)
                     hit[:, j] = ~np.all(np.diff(dj, axis=1) >= -1e-12, axis=1)
             illegal["person_collision"] = np.asarray(hit.any(axis=1))
+            if self.approach_check:
+                illegal["person_approach"] = approaches(
+                    trajs, ctx, d2min, radii + ctx.robot.circumscribed_radius, self.approach_speed
+                )
         return CriticScore(np.ascontiguousarray(cost, dtype=float), illegal)
+
+
+def approaches(
+    trajs: Trajectories,
+    ctx: PlanningContext,
+    d2min: FloatArray,
+    contact: FloatArray,
+    speed: float,
+) -> np.ndarray:
+    """``(N,)`` trajectories that move toward a person while in contact with them.
+
+    ``d2min (N, K)``: :func:`min_squared_distances` (exact within ``contact``); ``contact (K,)``
+    centre distance (m) below which robot and person touch. At rollout sample ``i`` in contact
+    with person ``k`` (forecast by ``ctx.people_at``), the robot's step into ``i`` or out of
+    ``i`` closing on ``k`` faster than ``speed`` (m/s) makes the trajectory illegal. People who
+    never come within ``contact`` of any trajectory are skipped.
+    """
+    n = len(trajs)
+    out = np.zeros(n, dtype=bool)
+    near = np.flatnonzero((d2min < contact[None] ** 2).any(axis=0))
+    if near.size == 0 or trajs.t.shape[0] < 2:
+        return out
+    xy = trajs.xy  # (N, T, 2)
+    forecast = ctx.people_at(trajs.t)  # (T, K, 2)
+    dt = np.diff(trajs.t)  # (T-1,)
+    step = np.diff(xy, axis=1) / np.maximum(dt, 1e-9)[None, :, None]  # (N, T-1, 2)
+    zero = np.zeros((n, 1, 2))
+    into = np.concatenate([zero, step], axis=1)  # (N, T, 2), the step that arrived at i
+    out_of = np.concatenate([step, zero], axis=1)  # the step that leaves i
+    for k in near:
+        rel = forecast[None, :, k] - xy  # (N, T, 2), robot → person
+        dist = np.sqrt((rel * rel).sum(axis=-1))
+        unit = rel / np.maximum(dist, 1e-9)[..., None]
+        closing = np.maximum((into * unit).sum(axis=-1), (out_of * unit).sum(axis=-1))
+        out |= ((dist < contact[k]) & (closing > speed)).any(axis=1)
+    return out
