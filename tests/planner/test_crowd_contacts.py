@@ -118,3 +118,19 @@ def test_a_runner_appearing_ahead_never_meets_a_robot_closing_on_them(robot, lat
     events = _run(robot, scene)
     touching = [(k, g, v, s) for k, g, v, s in events if g < 0.0]
     assert all(v <= 0.05 for _, _, v, _ in touching), touching
+
+
+def test_evasion_judges_closing_only_over_the_next_second():
+    # Over the 3 s evasion horizon the constant-velocity forecast carries a runner through the
+    # robot, after which backing away along their line "closes" on them; the loop replans
+    # every cycle, so only the first second counts and the move stays available.
+    from socialnav.planner.local_planner import traditional_planner
+    from socialnav.planner.recovery import APPROACH_HORIZON, RecoveringPlanner
+
+    ctx = _ctx(SocialContext((Person(1, (3.0, 0.0), (-2.0, 0.0)),)))
+    backing = _lines([(-0.1, 0.0)], duration=3.0, steps=31)
+    planner = RecoveringPlanner(traditional_planner(PR2))
+    assert APPROACH_HORIZON == 1.0
+    assert not planner._approaching(ctx, backing)[0]
+    full = InterpersonalCritic(footprint_disc="circumscribed").score(backing, ctx)
+    assert full.illegal["person_approach"][0]  # over the whole 3 s it does close on them

@@ -411,7 +411,7 @@ def build_navigator(
 # A Gaussian personal-space cost for global planning: 250 at the person, about 80 at 1.2 m
 # (σ = 0.8 m), so the global path keeps to the social zone where the map leaves room; groups'
 # o-spaces cost OSPACE_COST, so no plan threads between the members of a conversation.
-PERSONAL_SPACE_LAYER = {"amplitude": 250.0, "variance": 0.64, "cutoff": 5.0}
+PERSONAL_SPACE_LAYER = {"amplitude": 250.0, "variance": 0.64, "cutoff": 5.0, "velocity_factor": 5.0}
 OSPACE_COST = 220
 
 
@@ -430,6 +430,7 @@ def personal_space_layer(costmap: Costmap, social: SocialContext) -> Costmap:
         amplitude=PERSONAL_SPACE_LAYER["amplitude"],
         variance=PERSONAL_SPACE_LAYER["variance"],
         cutoff=PERSONAL_SPACE_LAYER["cutoff"],
+        velocity_factor=PERSONAL_SPACE_LAYER["velocity_factor"],
     )
     if social.groups:
         xs, ys = costmap.geometry.cell_centers()

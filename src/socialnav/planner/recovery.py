@@ -13,8 +13,9 @@ Behaviour (parameters in :class:`RecoveryParams`, ROS/Nav2 names, budgets in sec
   m within ``movement_time_allowance`` s. Only translation counts, so recovery steps that do not
   move (rotations, blocked back-ups) are not progress. At-goal statuses (``GOAL_REACHED``,
   ``ROTATING_TO_GOAL``) are progress.
-- **Evasion** (status ``EVADING``): when a person's time to collision with the robot, both at
-  constant velocity (the robot at the planner's chosen command), is below ``evasion_ttc`` s and
+- **Evasion** (status ``EVADING``): when a person's time to collision with the
+  robot, both at constant velocity (the robot at the planner's chosen command), is below
+  ``evasion_ttc`` s and
   the person walks faster than ``evasion_min_person_speed``, the robot takes the evasive twist
   of :mod:`socialnav.planner.evasion` that keeps the largest gap over ``evasion_horizon`` s —
   when it keeps a larger gap than the planner's own command.
@@ -62,6 +63,8 @@ _ACTIVE = (PlannerStatus.OK, PlannerStatus.NO_LEGAL_TRAJECTORY)
 _AT_GOAL = (PlannerStatus.GOAL_REACHED, PlannerStatus.ROTATING_TO_GOAL)
 #: closing speed (m/s) on a touched person that rules an evasive move out (as the critic's)
 APPROACH_SPEED = 0.02
+#: how far ahead (s) an evasive move is checked for closing on a touched person
+APPROACH_HORIZON = 1.0
 
 
 @dataclass(frozen=True)
@@ -290,7 +293,12 @@ class RecoveringPlanner:
         return self._out(twists[k].copy(), PlannerStatus.EVADING, result.record, why)
 
     def _approaching(self, ctx: PlanningContext, trajs: Trajectories) -> np.ndarray:
-        """``(N,)`` rollouts moving toward a person they touch (``critics.interpersonal``)."""
+        """``(N,)`` rollouts moving toward a person they touch (``critics.interpersonal``)
+        within the first ``APPROACH_HORIZON`` s: the loop replans every cycle, and beyond that
+        the constant-velocity forecast carries people through the robot, after which nearly
+        every move "closes" on someone and no evasion would be left."""
+        keep = trajs.t <= APPROACH_HORIZON
+        trajs = Trajectories(trajs.twists, trajs.poses[:, keep], trajs.t[keep])
         contact = ctx.social.radii() + self.robot.circumscribed_radius
         forecast = ctx.people_at(trajs.t)  # (T, K, 2)
         d2 = ((trajs.xy[:, :, None, :] - forecast[None]) ** 2).sum(axis=-1).min(axis=1)

@@ -20,6 +20,7 @@ from socialnav.core.robot import RobotModel
 from socialnav.core.scene import SocialContext
 from socialnav.planner.local_planner import LocalPlannerParams, PlannerResult, PlannerStatus
 from socialnav.planner.presets import PRESETS, build_navigator
+from socialnav.planner.recovery import RecoveryParams
 from socialnav.sim.controller import CONTROLLERS, register_controller
 
 if TYPE_CHECKING:
@@ -32,6 +33,9 @@ class StackController:
 
     ``params``: the local planner's ROS-named parameters — a :class:`LocalPlannerParams`, or a
     mapping of field overrides applied to the preset's own parameters (``None``: the preset's).
+    ``recovery``: the control loop's progress, waiting, evasion and recovery parameters — a
+    :class:`RecoveryParams` or a mapping of field overrides of the preset's (``None``: the
+    preset's); e.g. ``{"evasion_ttc": 0}`` switches evasion off.
     Raises :class:`~socialnav.core.errors.ConfigurationError` for an unknown preset or field.
     """
 
@@ -40,11 +44,13 @@ class StackController:
         preset: str = "paccet",
         record: bool = False,
         params: LocalPlannerParams | Mapping[str, Any] | None = None,
+        recovery: RecoveryParams | Mapping[str, Any] | None = None,
     ) -> None:
         self.preset_spec = PRESETS.get(preset)
         self.preset = preset
         self.record = record
         self.params = _planner_params(self.preset_spec.params, params)
+        self.recovery = _overrides(self.preset_spec.recovery, recovery, "recovery")
         self.navigator: Navigator | None = None
 
     def reset(
@@ -60,6 +66,7 @@ class StackController:
             social=scenario.social_context(scenario.start) if social is None else social,
             record=self.record,
             params=self.params,
+            recovery=self.recovery,
         )
 
     def step(
@@ -73,13 +80,19 @@ class StackController:
 def _planner_params(
     base: LocalPlannerParams, params: LocalPlannerParams | Mapping[str, Any] | None
 ) -> LocalPlannerParams:
-    if params is None or isinstance(params, LocalPlannerParams):
+    return _overrides(base, params, "local planner")
+
+
+def _overrides(base: Any, params: Any, what: str) -> Any:
+    """``base`` (a dataclass) with the fields in mapping ``params`` replaced; ``params`` of
+    ``base``'s own type is returned as is, ``None`` gives ``base``."""
+    if params is None or isinstance(params, type(base)):
         return params or base
-    known = {f.name for f in dataclasses.fields(LocalPlannerParams)}
+    known = {f.name for f in dataclasses.fields(base)}
     unknown = sorted(set(params) - known)
     if unknown:
         raise ConfigurationError(
-            f"unknown local planner parameter(s) {unknown}; known: {', '.join(sorted(known))}"
+            f"unknown {what} parameter(s) {unknown}; known: {', '.join(sorted(known))}"
         )
     return dataclasses.replace(base, **params)
 

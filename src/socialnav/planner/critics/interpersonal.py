@@ -32,13 +32,14 @@ Deviations and choices:
   overlapping it now, where only a trajectory that ever gets closer to them is (escape from
   overlap: the robot can always drive away from someone touching it).
 - Closing on a person (``approach_check``, on by default): a trajectory that moves toward a
-  person's forecast position while its circumscribed disc touches theirs — the robot's own step
-  between two rollout samples has a component above ``approach_speed`` (m/s) toward them at a
-  sample in contact — is illegal, reason ``person_approach``. This is the rollout form of an
-  *active* collision (Francis et al. 2023; ``socialnav.metrics.crowd``). ``person_collision``
-  (any overlap) is a *soft* reason (``objectives.SOFT_REASONS``): when a person walks into the
-  robot whatever it does, it is dropped for the cycle, so the planner still chooses among the
-  trajectories that stand still or move away (passive contact) instead of having none.
+  person's forecast position while its footprint disc (``footprint_disc``) touches theirs —
+  the robot's own step between two rollout samples has a component above ``approach_speed``
+  (m/s) toward them at a sample in contact — is illegal, reason ``person_approach``. This is
+  the rollout form of an *active* collision (Francis et al. 2023; ``socialnav.metrics.crowd``).
+  ``person_collision`` (any overlap) is a *soft* reason (``objectives.SOFT_REASONS``): when a
+  person walks into the robot whatever it does, it is dropped for the cycle, so the planner
+  still chooses among the trajectories that stand still or move away (passive contact)
+  instead of having none.
 - Speed, not behaviour: the per-time distances enter only through their minimum over time
   (``f`` is non-increasing; a collision at some time is ``min d² < r²``), so the ``(N, K)``
   minimum is computed once per cycle and shared by every interpersonal critic (the paper's
@@ -215,8 +216,6 @@ class InterpersonalCritic(Critic):
                     reach = reach + radii + robot_r
             if self.collision_check:
                 reach = np.maximum(reach, radii + robot_r)
-                if self.approach_check:
-                    reach = np.maximum(reach, radii + ctx.robot.circumscribed_radius)
             d2min = min_squared_distances(trajs, ctx, reach)  # (N, K)
 
         if self.evaluation == "last":
@@ -258,7 +257,7 @@ class InterpersonalCritic(Critic):
             illegal["person_collision"] = np.asarray(hit.any(axis=1))
             if self.approach_check:
                 illegal["person_approach"] = approaches(
-                    trajs, ctx, d2min, radii + ctx.robot.circumscribed_radius, self.approach_speed
+                    trajs, ctx, d2min, radii + robot_r, self.approach_speed
                 )
         return CriticScore(np.ascontiguousarray(cost, dtype=float), illegal)
 
