@@ -40,6 +40,23 @@ def test_robot_backing_away_from_someone_walking_into_it_is_passive(make_record,
     assert [e[3] for e in contact_events(r)] == [False]
 
 
+def test_a_person_appearing_on_the_robot_is_not_approached_by_the_step_before(
+    make_record, seg
+) -> None:
+    # The robot drives +x at 1 m/s and stops at sample 10; a person appears in the recording at
+    # sample 10 already overlapping it (as people appear in ETH/UCY). The step into sample 10
+    # was taken before they existed: passive. Had the robot kept driving at them, active.
+    robot = np.vstack([seg((0.0, 0.0), (1.0, 0.0), 10), np.full((10, 2), [1.0, 0.0])])
+    person = np.full((21, 1, 2), np.nan)
+    person[0] = [9.0, 0.0]  # far away at first, then gone
+    person[10:] = [1.3, 0.0]
+    r = make_record(robot, people=person, people_velocities=0.0 * person, family="crowd")
+    assert [e[3] for e in contact_events(r)] == [False]
+    moving = seg((0.0, 0.0), (2.0, 0.0), 20)
+    r = make_record(moving, people=person, people_velocities=0.0 * person, family="crowd")
+    assert [e[3] for e in contact_events(r)] == [True]
+
+
 def test_time_within_counts_samples_under_the_body_gap(make_record) -> None:
     # Robot still; person at centre distances 3.0, 1.5, 1.0, 0.8 m: body gaps 2.55, 1.05, 0.55,
     # 0.35 m → 3 samples under 1.2 m, 1 under 0.45 m.

@@ -6,7 +6,9 @@ below zero. A *contact event* is a maximal run of consecutive samples in contact
 It is **active** when the robot was moving toward that person — at some sample of the event,
 either the step into it or the step out of it has a velocity component toward the person's
 centre above :data:`APPROACH_SPEED` — and **passive** otherwise (the robot stopped, or moving
-away while someone walks into it). Success on a crowd episode requires no active contact;
+away while someone walks into it). The step into a person's first sample is not judged: a
+person who appears in the recording already touching the robot was not there to be approached
+(the step out of that sample still is). Success on a crowd episode requires no active contact;
 passive contacts are reported beside it (see ``metrics.success``, family ``crowd``).
 
 Time near people uses the same body-to-body gap: Hall's intimate (0.45 m) and personal (1.2 m)
@@ -42,12 +44,16 @@ def contact_events(record: EpisodeRecord) -> list[tuple[int, int, int, bool]]:
     zero = np.zeros((1, 2))
     into = np.vstack([zero, step])  # the step that arrived at sample t
     out_of = np.vstack([step, zero])  # the step that leaves sample t
+    present = record.people_present  # (T, K)
+    was_present = np.vstack([np.zeros((1, present.shape[1]), dtype=bool), present[:-1]])
     events = []
     for k in np.flatnonzero(contact.any(axis=0)):
         toward = record.people_positions[:, k] - xy
         norm = np.linalg.norm(toward, axis=1, keepdims=True)
         unit = np.divide(toward, norm, out=np.zeros_like(toward), where=norm > 1e-9)
-        approach = np.maximum((into * unit).sum(axis=1), (out_of * unit).sum(axis=1))
+        # the step into a sample counts only if the person was there before it
+        into_k = np.where(was_present[:, k], (into * unit).sum(axis=1), -np.inf)
+        approach = np.maximum(into_k, (out_of * unit).sum(axis=1))
         for first, last in _runs(contact[:, k]):
             active = bool(np.nanmax(approach[first : last + 1]) > APPROACH_SPEED)
             events.append((int(k), first, last, active))
