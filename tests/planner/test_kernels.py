@@ -105,6 +105,33 @@ def test_rollout_bit_identical(seed: int, n: int, sim_time: float, gran: float, 
     assert np.array_equal(fast.poses, ref.poses)
 
 
+@settings(max_examples=30)
+@given(
+    seed=st.integers(0, 2**31 - 1),
+    counts=st.tuples(st.integers(1, 13), st.integers(1, 9), st.integers(1, 17)),
+    signed_zero=st.booleans(),
+)
+def test_rollout_shared_headings_bit_identical(
+    seed: int, counts: tuple[int, int, int], signed_zero: bool
+) -> None:
+    """A sampled grid shares each w across many rows (the kernel's per-w tables); -0.0 and
+    0.0 are kept apart."""
+    rng = np.random.default_rng(seed)
+    axes = [np.sort(rng.uniform(-1.0, 1.0, c)) for c in counts]
+    twists = np.stack(np.meshgrid(*axes, indexing="ij"), -1).reshape(-1, 3)
+    if signed_zero:
+        twists[::2, 2] = 0.0
+        twists[1::2, 2] = -0.0
+    pose = np.array([*rng.uniform(-5.0, 5.0, 2), 0.0 if signed_zero else rng.uniform(-4, 4)])
+    params = RolloutParams(1.7, 0.025, 0.1)
+    with compiled(False):
+        ref = rollout(pose, pose, twists, PR2, params)
+    with compiled(True):
+        fast = rollout(pose, pose, twists, PR2, params)
+    assert np.array_equal(fast.poses, ref.poses)
+    assert np.array_equal(np.signbit(fast.poses), np.signbit(ref.poses))
+
+
 @settings(max_examples=40)
 @given(
     seed=st.integers(0, 2**31 - 1),

@@ -81,30 +81,44 @@ def _wrap(a, two_pi, pi):  # type: ignore[no-untyped-def]
 
 
 @_jit
-def _rollout_kernel(x0, y0, th0, twists, t, dt, two_pi, pi, out):  # type: ignore[no-untyped-def]
+def _rollout_kernel(x0, y0, th0, twists, w_index, w_values, t, dt, two_pi, pi, out):  # type: ignore[no-untyped-def]
     """``out (N, T, 3)``: the operations of :func:`socialnav.planner.rollout.rollout` in its
     order (heading ``th0 + w t``, Euler step with the previous heading, sequential cumulative
-    sum, then the start added, yaw wrapped to ``[-pi, pi)``)."""
+    sum, then the start added, yaw wrapped to ``[-pi, pi)``).
+
+    A sampled batch has few distinct ``w`` (one per ``vth`` sample): the heading, its ``cos``,
+    ``sin`` and wrapped yaw are computed once per distinct ``w`` (``w_values (U,)``, row ``i``
+    uses ``w_index[i]``; grouped by bit pattern, so every row gets the very values it would
+    compute itself)."""
     n, steps = twists.shape[0], t.shape[0]
+    u = w_values.shape[0]
+    cos_t = np.empty((u, steps))
+    sin_t = np.empty((u, steps))
+    yaw_t = np.empty((u, steps))
+    for g in range(u):
+        w = w_values[g]
+        for k in range(steps):
+            th = th0 + w * t[k]
+            cos_t[g, k] = np.cos(th)
+            sin_t[g, k] = np.sin(th)
+            yaw_t[g, k] = _wrap(th, two_pi, pi)
     for i in range(n):
         vx = twists[i, 0]
         vy = twists[i, 1]
-        w = twists[i, 2]
+        g = w_index[i]
         out[i, 0, 0] = x0
         out[i, 0, 1] = y0
+        out[i, 0, 2] = yaw_t[g, 0]
         sx = 0.0
         sy = 0.0
-        th = th0 + w * t[0]
-        out[i, 0, 2] = _wrap(th, two_pi, pi)
         for k in range(1, steps):
-            ck = np.cos(th)
-            sk = np.sin(th)
+            ck = cos_t[g, k - 1]
+            sk = sin_t[g, k - 1]
             sx += (vx * ck - vy * sk) * dt
             sy += (vx * sk + vy * ck) * dt
             out[i, k, 0] = sx + x0
             out[i, k, 1] = sy + y0
-            th = th0 + w * t[k]
-            out[i, k, 2] = _wrap(th, two_pi, pi)
+            out[i, k, 2] = yaw_t[g, k]
 
 
 def rollout_poses(
@@ -114,11 +128,15 @@ def rollout_poses(
     grid ``t (T,)`` s with step ``dt`` s; bit-identical to the NumPy rollout (module doc)."""
     twists = np.ascontiguousarray(twists, dtype=np.float64)
     out = np.empty((twists.shape[0], t.size, 3))
+    # Distinct w by bit pattern (not by value: -0.0 and 0.0, or NaNs, stay apart).
+    bits, w_index = np.unique(twists[:, 2].view(np.int64), return_inverse=True)
     _rollout_kernel(
         float(pose[0]),
         float(pose[1]),
         float(pose[2]),
         twists,
+        np.ascontiguousarray(w_index, dtype=np.intp).reshape(-1),
+        bits.view(np.float64),
         np.ascontiguousarray(t, dtype=np.float64),
         float(dt),
         2.0 * np.pi,

