@@ -313,3 +313,59 @@ def test_global_plan_identical(seed: int, density: float, neutral: float, factor
     assert (p0.path is None) == (p1.path is None)
     if p0.path is not None:
         assert np.array_equal(p0.path, p1.path)
+
+
+@settings(max_examples=40)
+@given(
+    seed=st.integers(0, 2**31 - 1),
+    density=st.floats(0.0, 0.5),
+    neutral=st.floats(1.0, 100.0),
+    factor=st.floats(0.0, 5.0),
+    levels=st.sampled_from([1, 4, 253]),
+    tolerance=st.sampled_from([0.0, 0.3]),
+)
+def test_compiled_global_search_is_optimal(
+    seed: int, density: float, neutral: float, factor: float, levels: int, tolerance: float
+) -> None:
+    """``search="compiled"`` (A*) against SciPy's Dijkstra: the same status, goal (substitute
+    included) and cost; its path is a valid chain of moves whose weights sum to that cost
+    (few cost levels = many equal-cost paths, where the two may choose differently)."""
+    from socialnav.planner.global_planner import _OFFSETS, plan_path, traversable
+    from socialnav.world.grid import Costmap
+
+    rng = np.random.default_rng(seed)
+    shape = tuple(int(v) for v in rng.integers(3, 50, 2))
+    costs = (rng.integers(0, levels, shape) * (252 // max(levels - 1, 1))).astype(np.uint8)
+    costs[rng.random(shape) < density] = 254
+    costs[rng.random(shape) < 0.05] = 255
+    geo = GridGeometry(shape, 0.1)
+    costmap = Costmap(costs, geo)
+    start = rng.uniform(0.0, 0.1 * np.array(shape[::-1]), 2)
+    goal = rng.uniform(0.0, 0.1 * np.array(shape[::-1]), 2)
+    with compiled(True):
+        ref = plan_path(costmap, start, goal, neutral, factor, tolerance=tolerance)
+        fast = plan_path(
+            costmap, start, goal, neutral, factor, tolerance=tolerance, search="compiled"
+        )
+    assert fast.status == ref.status
+    assert (fast.path is None) == (ref.path is None)
+    if ref.path is None:
+        return
+    assert np.array_equal(fast.goal, ref.goal)
+    assert fast.cost == pytest.approx(ref.cost, rel=1e-12, abs=0.0)
+    assert np.array_equal(fast.path[0], start) and np.array_equal(fast.path[-1], fast.goal)
+    cells = [geo.world_to_cell(start)]
+    cells += [geo.world_to_cell(p) for p in fast.path[1:-1]]
+    cells += [geo.world_to_cell(fast.goal)]
+    passable = traversable(costs)
+    total = 0.0
+    for (r0, c0), (r1, c1) in zip(cells[:-1], cells[1:], strict=True):
+        dr, dc = int(r1 - r0), int(c1 - c0)
+        assert (dr, dc) in _OFFSETS
+        assert passable[r1, c1]
+        if dr and dc:
+            assert passable[r0 + dr, c0] and passable[r0, c0 + dc]
+        step = 0.1 * float(np.hypot(dr, dc))
+        total += step * (neutral + factor * 0.5 * (float(costs[r0, c0]) + float(costs[r1, c1])))
+    if len(cells) > 1 and cells[0].tolist() != cells[-1].tolist():
+        assert total == pytest.approx(fast.cost, rel=1e-12, abs=0.0)

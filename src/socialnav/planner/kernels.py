@@ -443,6 +443,159 @@ def grid_weights(
     return out
 
 
+# ---- global search (A*) ------------------------------------------------------------------
+
+
+@_jit
+def _heap_less(f, a, b):  # type: ignore[no-untyped-def]
+    return f[a] < f[b] or (f[a] == f[b] and a < b)
+
+
+@_jit
+def _heap_up(heap, pos, f, i):  # type: ignore[no-untyped-def]
+    node = heap[i]
+    while i > 0:
+        parent = (i - 1) >> 1
+        other = heap[parent]
+        if not _heap_less(f, node, other):
+            break
+        heap[i] = other
+        pos[other] = i
+        i = parent
+    heap[i] = node
+    pos[node] = i
+
+
+@_jit
+def _heap_down(heap, pos, f, size, i):  # type: ignore[no-untyped-def]
+    node = heap[i]
+    while True:
+        child = 2 * i + 1
+        if child >= size:
+            break
+        if child + 1 < size and _heap_less(f, heap[child + 1], heap[child]):
+            child += 1
+        other = heap[child]
+        if not _heap_less(f, other, node):
+            break
+        heap[i] = other
+        pos[other] = i
+        i = child
+    heap[i] = node
+    pos[node] = i
+
+
+@_jit
+def _astar_kernel(  # type: ignore[no-untyped-def]
+    costs, passable, start, goal, offsets, steps, neutral, half_factor, h_scale, dist, pred
+):
+    """A* over the 8-slot grid graph of :func:`grid_weights` (its edge weights, computed on
+    the fly with the same operations), from ``start`` (flat index) until ``goal`` (flat index,
+    or -1 for an exhaustive search) is settled. Heap key ``(g + h, node)``; ``h`` = octile
+    distance x ``h_scale`` (a lower bound of every move's cost, so consistent). Returns the
+    number of settled nodes."""
+    rows, cols = costs.shape
+    n = rows * cols
+    heap = np.empty(n, dtype=np.int64)
+    pos = np.full(n, -1, dtype=np.int64)  # heap slot; -2 once settled
+    f = np.empty(n)
+    gr, gc = 0, 0
+    if goal >= 0:
+        gr = goal // cols
+        gc = goal - gr * cols
+    dist[start] = 0.0
+    f[start] = 0.0
+    heap[0] = start
+    pos[start] = 0
+    size = 1
+    settled = 0
+    diag = np.sqrt(2.0) - 1.0
+    while size > 0:
+        u = heap[0]
+        size -= 1
+        pos[u] = -2
+        settled += 1
+        if size > 0:
+            heap[0] = heap[size]
+            pos[heap[0]] = 0
+            _heap_down(heap, pos, f, size, 0)
+        if u == goal:
+            break
+        r = u // cols
+        c = u - r * cols
+        if not passable[r, c]:
+            continue
+        du = dist[u]
+        cu = np.float64(costs[r, c])
+        for k in range(offsets.shape[0]):
+            dr, dc = offsets[k, 0], offsets[k, 1]
+            rn, cn = r + dr, c + dc
+            if not (0 <= rn < rows and 0 <= cn < cols and passable[rn, cn]):
+                continue
+            if dr != 0 and dc != 0 and not (passable[rn, c] and passable[r, cn]):
+                continue
+            v = rn * cols + cn
+            if pos[v] == -2:
+                continue
+            nd = du + steps[k] * (neutral + half_factor * (cu + np.float64(costs[rn, cn])))
+            if nd < dist[v]:
+                dist[v] = nd
+                pred[v] = u
+                h = 0.0
+                if goal >= 0:
+                    ar = abs(rn - gr)
+                    ac = abs(cn - gc)
+                    h = h_scale * (max(ar, ac) + diag * min(ar, ac))
+                f[v] = nd + h
+                if pos[v] == -1:
+                    heap[size] = v
+                    pos[v] = size
+                    size += 1
+                    _heap_up(heap, pos, f, size - 1)
+                else:
+                    _heap_up(heap, pos, f, pos[v])
+    return settled
+
+
+def astar(
+    costs: NDArray[np.uint8],
+    passable: NDArray[np.bool_],
+    start: int,
+    goal: int,
+    offsets: NDArray[np.int64],
+    steps: NDArray[np.float64],
+    neutral_cost: float,
+    cost_factor: float,
+    resolution: float,
+) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
+    """Costs-to-come ``(rows·cols,)`` and predecessors (``-1``: none) of an A* search on the
+    global planner's grid graph from flat ``start`` to flat ``goal`` (``-1``: every reachable
+    cell, i.e. Dijkstra). Exact where settled: the goal's cost, and with ``goal = -1`` or an
+    unreachable goal the set of reachable cells, are those of a full Dijkstra; among paths of
+    equal cost the one chosen may differ from SciPy's (ties broken by heap key, node index).
+    Runs without the GIL."""
+    n = costs.size
+    dist = np.full(n, np.inf)
+    pred = np.full(n, -1, dtype=np.int64)
+    # Every move costs at least its length x neutral_cost; a hair less keeps h a lower bound
+    # after rounding.
+    h_scale = float(neutral_cost) * float(resolution) * (1.0 - 1e-9)
+    _astar_kernel(
+        np.ascontiguousarray(costs, dtype=np.uint8),
+        np.ascontiguousarray(passable, dtype=np.bool_),
+        int(start),
+        int(goal),
+        np.ascontiguousarray(offsets, dtype=np.int64),
+        np.ascontiguousarray(steps, dtype=np.float64),
+        float(neutral_cost),
+        float(cost_factor) * 0.5,
+        h_scale,
+        dist,
+        pred,
+    )
+    return dist, pred
+
+
 # ---- BFS map grids ---------------------------------------------------------------------------
 
 
@@ -534,6 +687,8 @@ def warmup() -> float:
     time_box(poses)
     nearest_vertex(poses[:, -1], np.zeros((2, 2)))
     grid_weights(costs, costs == 0, np.array([[0, 1]]), np.array([0.25]), 50.0, 3.0)
+    for goal in (15, -1):
+        astar(costs, costs == 0, 0, goal, np.array([[0, 1], [1, 1]]), np.ones(2), 50.0, 3.0, 0.1)
     min_squared_distances(poses[:, -1:], np.zeros((1, 1, 2)), np.array([0], np.intp), out)
     compile_seconds = time.perf_counter() - start
     _warm = True
