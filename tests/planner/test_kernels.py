@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 from contextlib import contextmanager
+from itertools import pairwise
 
 import numpy as np
 import pytest
@@ -359,7 +360,7 @@ def test_compiled_global_search_is_optimal(
     cells += [geo.world_to_cell(fast.goal)]
     passable = traversable(costs)
     total = 0.0
-    for (r0, c0), (r1, c1) in zip(cells[:-1], cells[1:], strict=True):
+    for (r0, c0), (r1, c1) in pairwise(cells):
         dr, dc = int(r1 - r0), int(c1 - c0)
         assert (dr, dc) in _OFFSETS
         assert passable[r1, c1]
