@@ -370,3 +370,30 @@ def test_compiled_global_search_is_optimal(
         total += step * (neutral + factor * 0.5 * (float(costs[r0, c0]) + float(costs[r1, c1])))
     if len(cells) > 1 and cells[0].tolist() != cells[-1].tolist():
         assert total == pytest.approx(fast.cost, rel=1e-12, abs=0.0)
+
+
+@settings(max_examples=40)
+@given(
+    seed=st.integers(0, 2**31 - 1),
+    people=st.integers(0, 40),
+    fast=st.sampled_from([0.0, 1.0, 3.0, 5.0, 30.0]),
+    passing=st.booleans(),
+    params=st.sampled_from([(77.0, 0.25, 10.0, 5.0), (250.0, 0.64, 5.0, 5.0), (40, 0.1, 39, 0)]),
+)
+def test_proxemic_layer_identical(
+    seed: int, people: int, fast: float, passing: bool, params: tuple[float, ...]
+) -> None:
+    """The compiled personal-space layer equals the NumPy layer cell for cell: people on and
+    off the grid, standing, walking, one fast (the lobe clipped to the grid)."""
+    from socialnav.world.proxemic_layer import proxemic_costs
+
+    rng = np.random.default_rng(seed)
+    shape = tuple(int(v) for v in rng.integers(5, 120, 2))
+    geo = GridGeometry(shape, float(rng.choice([0.05, 0.1])), (float(rng.uniform(-2, 2)), 0.3))
+    pos = rng.uniform(-3.0, 0.1 * max(shape) + 3.0, (people, 2))
+    vel = rng.uniform(-1.3, 1.3, (people, 2)) * (rng.random((people, 1)) < 0.7)
+    if people:
+        vel[0] = [fast, -0.5 * fast]
+    amplitude, variance, cutoff, factor = params
+    args = (geo, pos, vel, amplitude, variance, cutoff, factor, passing)
+    assert np.array_equal(kernels.proxemic_costs(*args), proxemic_costs(*args))

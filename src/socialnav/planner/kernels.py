@@ -29,6 +29,10 @@ import time
 import numpy as np
 from numpy.typing import NDArray
 
+from socialnav.world import proxemic_layer
+from socialnav.world.grid import GridGeometry
+from socialnav.world.proxemic_layer import person_windows
+
 try:  # numba is a core dependency; the guard keeps the reference path usable without it.
     import numba as _numba
 
@@ -447,41 +451,45 @@ def grid_weights(
 
 
 @_jit
-def _heap_less(f, a, b):  # type: ignore[no-untyped-def]
-    return f[a] < f[b] or (f[a] == f[b] and a < b)
-
-
-@_jit
-def _heap_up(heap, pos, f, i):  # type: ignore[no-untyped-def]
-    node = heap[i]
+def _heap_up(hk, hn, pos, i, key, node):  # type: ignore[no-untyped-def]
+    """Sift ``(key, node)`` up from slot ``i`` of the binary heap (keys ``hk``, nodes ``hn``,
+    ordered by ``(key, node)``)."""
     while i > 0:
         parent = (i - 1) >> 1
-        other = heap[parent]
-        if not _heap_less(f, node, other):
+        pk = hk[parent]
+        if pk < key or (pk == key and hn[parent] < node):
             break
-        heap[i] = other
-        pos[other] = i
+        hk[i] = pk
+        hn[i] = hn[parent]
+        pos[hn[i]] = i
         i = parent
-    heap[i] = node
+    hk[i] = key
+    hn[i] = node
     pos[node] = i
 
 
 @_jit
-def _heap_down(heap, pos, f, size, i):  # type: ignore[no-untyped-def]
-    node = heap[i]
+def _heap_down(hk, hn, pos, size, key, node):  # type: ignore[no-untyped-def]
+    """Place ``(key, node)`` at the root and sift it down."""
+    i = 0
     while True:
         child = 2 * i + 1
         if child >= size:
             break
-        if child + 1 < size and _heap_less(f, heap[child + 1], heap[child]):
-            child += 1
-        other = heap[child]
-        if not _heap_less(f, other, node):
+        ck, cn = hk[child], hn[child]
+        if child + 1 < size:
+            rk, rn = hk[child + 1], hn[child + 1]
+            if rk < ck or (rk == ck and rn < cn):
+                child += 1
+                ck, cn = rk, rn
+        if key < ck or (key == ck and node < cn):
             break
-        heap[i] = other
-        pos[other] = i
+        hk[i] = ck
+        hn[i] = cn
+        pos[cn] = i
         i = child
-    heap[i] = node
+    hk[i] = key
+    hn[i] = node
     pos[node] = i
 
 
@@ -496,29 +504,27 @@ def _astar_kernel(  # type: ignore[no-untyped-def]
     number of settled nodes."""
     rows, cols = costs.shape
     n = rows * cols
-    heap = np.empty(n, dtype=np.int64)
+    hk = np.empty(n)
+    hn = np.empty(n, dtype=np.int64)
     pos = np.full(n, -1, dtype=np.int64)  # heap slot; -2 once settled
-    f = np.empty(n)
     gr, gc = 0, 0
     if goal >= 0:
         gr = goal // cols
         gc = goal - gr * cols
     dist[start] = 0.0
-    f[start] = 0.0
-    heap[0] = start
+    hk[0] = 0.0
+    hn[0] = start
     pos[start] = 0
     size = 1
     settled = 0
     diag = np.sqrt(2.0) - 1.0
     while size > 0:
-        u = heap[0]
-        size -= 1
+        u = hn[0]
         pos[u] = -2
         settled += 1
+        size -= 1
         if size > 0:
-            heap[0] = heap[size]
-            pos[heap[0]] = 0
-            _heap_down(heap, pos, f, size, 0)
+            _heap_down(hk, hn, pos, size, hk[size], hn[size])
         if u == goal:
             break
         r = u // cols
@@ -535,7 +541,8 @@ def _astar_kernel(  # type: ignore[no-untyped-def]
             if dr != 0 and dc != 0 and not (passable[rn, c] and passable[r, cn]):
                 continue
             v = rn * cols + cn
-            if pos[v] == -2:
+            slot = pos[v]
+            if slot == -2:
                 continue
             nd = du + steps[k] * (neutral + half_factor * (cu + np.float64(costs[rn, cn])))
             if nd < dist[v]:
@@ -546,14 +553,10 @@ def _astar_kernel(  # type: ignore[no-untyped-def]
                     ar = abs(rn - gr)
                     ac = abs(cn - gc)
                     h = h_scale * (max(ar, ac) + diag * min(ar, ac))
-                f[v] = nd + h
-                if pos[v] == -1:
-                    heap[size] = v
-                    pos[v] = size
+                if slot == -1:
+                    slot = size
                     size += 1
-                    _heap_up(heap, pos, f, size - 1)
-                else:
-                    _heap_up(heap, pos, f, pos[v])
+                _heap_up(hk, hn, pos, slot, nd + h, v)
     return settled
 
 
@@ -594,6 +597,128 @@ def astar(
         pred,
     )
     return dist, pred
+
+
+# ---- personal-space (proxemic) layer ---------------------------------------------------------
+
+
+@_jit
+def _proxemic_exponents(  # type: ignore[no-untyped-def]
+    windows, semi, first, last, ox, oy, res, cols_n, variance, threshold, flat, expo
+):
+    """Windows ``first..last-1`` (rows ``(r0, r1, c0, c1, x, y, cos, sin, var_front,
+    one_sided)``): the exponent ``-(mx² / 2σx² + my² / 2σ²)`` of each cell, with the
+    reference's operations, for the cells of the window whose centre lies in the ellipse
+    ``semi[k] = (along, across)`` (m, the cutoff's reach, a hair enlarged: it contains the
+    whole lobe), one row interval at a time; cells at or above ``threshold`` go to
+    ``flat``/``expo``. Returns their count."""
+    m = 0
+    for k in range(first, last):
+        r0, r1 = int(windows[k, 0]), int(windows[k, 1])
+        c0, c1 = int(windows[k, 2]), int(windows[k, 3])
+        x, y, c, s = windows[k, 4], windows[k, 5], windows[k, 6], windows[k, 7]
+        var_front = windows[k, 8]
+        one_sided = windows[k, 9] != 0.0
+        ia = 1.0 / (semi[k, 0] * semi[k, 0])
+        ib = 1.0 / (semi[k, 1] * semi[k, 1])
+        qa = c * c * ia + s * s * ib  # dx² coefficient of (mx/a)² + (my/b)² (> 0)
+        for r in range(r0, r1):
+            dy = oy + (r + 0.5) * res - y
+            qb = 2.0 * dy * c * s * (ia - ib)
+            qc = dy * dy * (s * s * ia + c * c * ib) - 1.0
+            disc = qb * qb - 4.0 * qa * qc
+            if disc < 0.0:
+                continue
+            root = np.sqrt(disc)
+            lo = (-qb - root) / (2.0 * qa)
+            hi = (-qb + root) / (2.0 * qa)
+            q0 = max(int(np.floor((x + lo - ox) / res - 0.5)) - 1, c0)
+            q1 = min(int(np.ceil((x + hi - ox) / res - 0.5)) + 2, c1)
+            for q in range(q0, q1):
+                dx = ox + (q + 0.5) * res - x
+                mx = dx * c + dy * s
+                if one_sided and mx < 0.0:
+                    continue
+                my = dy * c - dx * s
+                sx2 = var_front if mx > 0.0 else variance
+                e = -(mx * mx / (2.0 * sx2) + my * my / (2.0 * variance))
+                if e >= threshold:
+                    if m >= flat.shape[0]:
+                        return -1  # cannot happen (the caller's bound): never write past
+                    flat[m] = r * cols_n + q
+                    expo[m] = e
+                    m += 1
+    return m
+
+
+@_jit
+def _scatter_max(flat, values, out):  # type: ignore[no-untyped-def]
+    for i in range(flat.shape[0]):
+        if values[i] > out[flat[i]]:
+            out[flat[i]] = values[i]
+
+
+_PROXEMIC_BATCH = 1 << 18  # cells per compiled pass (bounds the buffers: 4 MB)
+
+
+def proxemic_costs(
+    geometry: GridGeometry,
+    positions: NDArray[np.float64],
+    velocities: NDArray[np.float64],
+    amplitude: float = 77.0,
+    variance: float = 0.25,
+    cutoff: float = 10.0,
+    velocity_factor: float = 5.0,
+    passing: bool = False,
+) -> NDArray[np.uint8]:
+    """:func:`socialnav.world.proxemic_layer.proxemic_costs`, the same uint8 layer (same
+    errors): a compiled pass visits only the cells of each person's window inside the
+    ellipse that bounds the lobe (work ~ the cells the person actually costs, clipped to the
+    grid) and computes their exponents; NumPy's ``exp`` (the reference's) runs only on the
+    cells that reach ``cutoff``."""
+    windows = person_windows(
+        geometry, positions, velocities, amplitude, variance, cutoff, velocity_factor, passing
+    )
+    out = np.zeros(geometry.shape, dtype=np.uint8)
+    if not windows:
+        return out
+    table = np.array(windows, dtype=np.float64)  # (K, 10)
+    res = float(geometry.resolution)
+    log_ratio = float(np.log(cutoff / amplitude))  # < 0
+    # Reach of the cutoff along / across the lobe: sqrt(-2 var log(cutoff / A)), enlarged.
+    along = np.sqrt(-2.0 * table[:, 8] * log_ratio) * (1.0 + 1e-6) + 1e-9
+    across = np.sqrt(-2.0 * variance * log_ratio) * (1.0 + 1e-6) + 1e-9
+    semi = np.column_stack([np.maximum(along, across), np.full(len(windows), across)])
+    # A window's visited cells are at most its area, and at most the ellipse's box.
+    area = (table[:, 1] - table[:, 0]) * (table[:, 3] - table[:, 2])
+    box = (2.0 * semi[:, 0] / res + 8.0) ** 2
+    cells = np.minimum(area, box).astype(np.int64)
+    threshold = log_ratio - 1e-6  # exp is monotone; the margin absorbs rounding
+    ox, oy = geometry.origin
+    flat_out = out.reshape(-1)
+    size = int(max(_PROXEMIC_BATCH, cells.max()))
+    flat = np.empty(size, dtype=np.int64)
+    expo = np.empty(size)
+    first = 0
+    while first < len(windows):
+        last, total = first, 0
+        while last < len(windows) and total + cells[last] <= size:
+            total += int(cells[last])
+            last += 1
+        m = _proxemic_exponents(
+            table, semi, first, last, float(ox), float(oy), res, int(geometry.shape[1]),
+            float(variance), threshold, flat, expo,
+        )  # fmt: skip
+        if m < 0:  # pragma: no cover - the bound above holds; stay correct regardless
+            return proxemic_layer.proxemic_costs(
+                geometry, positions, velocities, amplitude, variance, cutoff, velocity_factor,
+                passing,
+            )  # fmt: skip
+        a = amplitude * np.exp(expo[:m])
+        keep = a >= cutoff
+        _scatter_max(flat[:m][keep], np.floor(a[keep]).astype(np.uint8), flat_out)
+        first = last
+    return out
 
 
 # ---- BFS map grids ---------------------------------------------------------------------------
@@ -687,6 +812,7 @@ def warmup() -> float:
     time_box(poses)
     nearest_vertex(poses[:, -1], np.zeros((2, 2)))
     grid_weights(costs, costs == 0, np.array([[0, 1]]), np.array([0.25]), 50.0, 3.0)
+    proxemic_costs(GridGeometry((4, 4), 0.25), np.ones((1, 2)), np.ones((1, 2)), passing=True)
     for goal in (15, -1):
         astar(costs, costs == 0, 0, goal, np.array([[0, 1], [1, 1]]), np.ones(2), 50.0, 3.0, 0.1)
     min_squared_distances(poses[:, -1:], np.zeros((1, 1, 2)), np.array([0], np.intp), out)

@@ -46,7 +46,7 @@ from socialnav.core.geometry import FloatArray, wrap_angle
 from socialnav.core.robot import RobotModel
 from socialnav.core.scene import SocialContext
 from socialnav.planner.context import PlanningContext
-from socialnav.planner.global_planner import plan_path
+from socialnav.planner.global_planner import GlobalSearch, plan_path
 from socialnav.planner.limits import CycleClock, enforce_limits
 from socialnav.planner.local_planner import PlannerResult, PlannerStatus
 from socialnav.planner.protocols import LocalPlannerProtocol
@@ -86,6 +86,7 @@ class Navigator:
         max_path_deviation: float = 1.0,
         waiting_replan_period: float = 1.0,
         people_range: float | None = None,
+        global_search: GlobalSearch = "scipy",
     ) -> None:
         g = np.asarray(goal, dtype=float)
         if g.shape != (3,) or not np.all(np.isfinite(g)):
@@ -123,6 +124,9 @@ class Navigator:
         self.controller_period = float(controller_period)
         self.max_path_deviation = float(max_path_deviation)
         self.waiting_replan_period = float(waiting_replan_period)
+        if global_search not in ("scipy", "compiled"):
+            raise ValueError(f"global_search must be 'scipy' or 'compiled', got {global_search!r}")
+        self.global_search: GlobalSearch = global_search
         # People farther than this cannot touch the window's rollouts: half the window's
         # diagonal plus 5 m of walking.
         self.people_range = (
@@ -300,6 +304,7 @@ class Navigator:
             target[:2],
             tolerance=self.goal_tolerance,
             substitutes=self._roomy,
+            search=self.global_search,
         )
         if plan.status != "OK" or plan.goal is None:
             if plan.status == "START_BLOCKED":
@@ -363,7 +368,11 @@ class Navigator:
             if self.global_layer is not None:
                 costmap = self.global_layer(costmap, on_map)
             plan = plan_path(
-                costmap, pose[:2], target[:2], tolerance=0.5 * self.robot.circumscribed_radius
+                costmap,
+                pose[:2],
+                target[:2],
+                tolerance=0.5 * self.robot.circumscribed_radius,
+                search=self.global_search,
             )
             if (
                 plan.status != "OK"
@@ -372,7 +381,7 @@ class Navigator:
             ):
                 # Blocked only by people: follow the static plan; the local planner waits.
                 # (With a plan to this target already, it is kept below.)
-                static = plan_path(self.costmap, pose[:2], target[:2])
+                static = plan_path(self.costmap, pose[:2], target[:2], search=self.global_search)
                 plan = static if static.status == "OK" else plan
             self.last_plan_status = plan.status
             self._plan_time = now

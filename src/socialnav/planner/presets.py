@@ -34,8 +34,10 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
+from numpy.typing import NDArray
 
 from socialnav.core.errors import ConfigurationError
 from socialnav.core.registry import Registry
@@ -44,6 +46,7 @@ from socialnav.core.scene import SocialContext
 from socialnav.moo.paccet import PaccetOptions
 from socialnav.moo.scalarize import L1Target, Weighted
 from socialnav.moo.selection import PaccetSelection, SelectionStrategy, WeightedSum
+from socialnav.planner import kernels
 from socialnav.planner.context import PlanningContext
 from socialnav.planner.critics.activity_space import ActivitySpaceCritic
 from socialnav.planner.critics.group import GroupCritic
@@ -58,7 +61,7 @@ from socialnav.planner.navigator import CostmapLayer, Navigator
 from socialnav.planner.objectives import Objective
 from socialnav.planner.recovery import RecoveringPlanner, RecoveryParams
 from socialnav.social.goals import SocialGoal
-from socialnav.world.grid import Costmap
+from socialnav.world.grid import Costmap, GridGeometry
 
 # The reference navigation code's scalarization weights, by objective kind.
 PAPER_WEIGHTS = {"navigation": 0.4, "ID": 0.5, "GD": 0.0, "SGD": 1.0, "AS": 0.5}
@@ -379,7 +382,6 @@ def build_navigator(
     layer: CostmapLayer | None = None
     if preset.proxemic_layer:
         from socialnav.world.costmap import combine_max
-        from socialnav.world.proxemic_layer import proxemic_costs
 
         def proxemic(local_costmap: Costmap, people: SocialContext) -> Costmap:
             costs = proxemic_costs(local_costmap.geometry, people.positions(), people.velocities())
@@ -408,6 +410,15 @@ def build_navigator(
     )
 
 
+def proxemic_costs(geometry: GridGeometry, *args: Any, **kwargs: Any) -> NDArray[np.uint8]:
+    """:func:`socialnav.world.proxemic_layer.proxemic_costs` on the compiled kernels when they
+    are on (:func:`socialnav.planner.kernels.proxemic_costs`: the same layer), else NumPy."""
+    from socialnav.world import proxemic_layer
+
+    fn = kernels.proxemic_costs if kernels.enabled() else proxemic_layer.proxemic_costs
+    return fn(geometry, *args, **kwargs)
+
+
 # A Gaussian personal-space cost for global planning: 250 at the person, about 80 at 1.2 m
 # (σ = 0.8 m), so the global path keeps to the social zone where the map leaves room; groups'
 # o-spaces cost OSPACE_COST, so no plan threads between the members of a conversation.
@@ -419,7 +430,6 @@ def personal_space_layer(costmap: Costmap, social: SocialContext) -> Costmap:
     """``costmap`` with a Gaussian personal-space cost per person and o-space costs."""
     from socialnav.social.spaces import o_space
     from socialnav.world.costmap import combine_max
-    from socialnav.world.proxemic_layer import proxemic_costs
 
     if not social.people:
         return costmap
