@@ -57,7 +57,8 @@ from socialnav.planner.local_planner import (
     LocalPlannerParams,
     traditional_objectives,
 )
-from socialnav.planner.navigator import CostmapLayer, Navigator
+from socialnav.planner.global_planner import GlobalSearch
+from socialnav.planner.navigator import CostmapLayer, Navigator, ReplanMode
 from socialnav.planner.objectives import Objective
 from socialnav.planner.recovery import RecoveringPlanner, RecoveryParams
 from socialnav.social.goals import SocialGoal
@@ -362,6 +363,9 @@ def build_navigator(
     recovery: RecoveryParams | None = None,
     default_tolerance: float = 1.0,
     planner_frequency: float = 0.5,
+    global_search: GlobalSearch = "scipy",
+    replan_mode: ReplanMode = "inline",
+    replan_delay: int = 2,
 ) -> Navigator:
     """The stack of preset ``name``: global plan, local planner with recoveries, social goal.
 
@@ -369,7 +373,9 @@ def build_navigator(
     ``required_movement_radius``/``movement_time_allowance``, ``controller_patience``, waiting
     and evasion; :class:`~socialnav.planner.recovery.RecoveryParams`; default the preset's),
     ``default_tolerance`` (m, navfn: how far a blocked goal may move to a reachable point) and
-    ``planner_frequency`` (Hz, move_base: periodic global replanning). The objective set follows
+    ``planner_frequency`` (Hz, move_base: periodic global replanning); ``global_search``,
+    ``replan_mode`` and ``replan_delay`` as in :class:`Navigator` (rate-separated replanning;
+    the defaults replan inline with SciPy's Dijkstra). The objective set follows
     the people in view every cycle (:class:`SceneObjectives`); ``social`` only seeds it.
     Raises ``ConfigurationError`` on an unknown preset or a non-positive ``planner_frequency``.
     """
@@ -407,6 +413,9 @@ def build_navigator(
         window_size=LOCAL_WINDOW,
         goal_tolerance=default_tolerance,
         replan_period=1.0 / planner_frequency,
+        global_search=global_search,
+        replan_mode=replan_mode,
+        replan_delay=replan_delay,
     )
 
 
