@@ -52,12 +52,12 @@ from socialnav.planner.critics.activity_space import ActivitySpaceCritic
 from socialnav.planner.critics.group import GroupCritic
 from socialnav.planner.critics.interpersonal import InterpersonalCritic
 from socialnav.planner.critics.social_goal import SocialGoalCritic
+from socialnav.planner.global_planner import GlobalSearch
 from socialnav.planner.local_planner import (
     LocalPlanner,
     LocalPlannerParams,
     traditional_objectives,
 )
-from socialnav.planner.global_planner import GlobalSearch
 from socialnav.planner.navigator import CostmapLayer, Navigator, ReplanMode
 from socialnav.planner.objectives import Objective
 from socialnav.planner.recovery import RecoveringPlanner, RecoveryParams
