@@ -361,12 +361,15 @@ class Navigator:
         self._resolved[key] = out
         return out
 
-    def _with_people(self, costmap: Costmap, social: SocialContext) -> Costmap:
-        """People as obstacles, as a laser-fed obstacle layer shows them to every planner."""
+    def _with_people(
+        self, costmap: Costmap, social: SocialContext, static: bool = False
+    ) -> Costmap:
+        """People as obstacles, as a laser-fed obstacle layer shows them to every planner
+        (``static``: ``costmap`` is the fixed map, whose own inflation is kept across calls)."""
         if not (self.people_as_obstacles and social.people):
             return costmap
         discs = np.column_stack([social.positions(), social.radii()])
-        return add_obstacle_discs(costmap, discs, self.robot.inscribed_radius)
+        return add_obstacle_discs(costmap, discs, self.robot.inscribed_radius, reuse_static=static)
 
     def _on_map(self, social: SocialContext) -> SocialContext:
         """The people on the map (1 m margin): the only ones a global layer can draw."""
@@ -423,7 +426,7 @@ class Navigator:
         reads only its arguments and the navigator's fixed configuration, so it may run on
         the replanning worker). ``fresh``: no plan to this target yet."""
         on_map = self._on_map(social)
-        costmap = self._with_people(self.costmap, on_map)
+        costmap = self._with_people(self.costmap, on_map, static=True)
         if self.global_layer is not None:
             costmap = self.global_layer(costmap, on_map)
         plan = plan_path(
