@@ -114,7 +114,9 @@ def add_obstacle_discs(
 
 # Inflation of a static map's own LETHAL cells, kept per map (the costs array itself is held,
 # so an entry can only match the very array it was computed from).
-_STATIC_INFLATION: dict[tuple[int, float, float, float], tuple[NDArray[np.uint8], NDArray]] = {}
+_STATIC_INFLATION: dict[
+    tuple[int, float, float, float], tuple[NDArray[np.uint8], NDArray[np.uint8]]
+] = {}
 
 
 @lru_cache(maxsize=16)
@@ -130,8 +132,8 @@ def _cost_by_squared_offset(
     from socialnav.world.inflation import _cost_unchecked
 
     reach = int(np.ceil(r_inf / resolution)) + 2
-    a, b = np.meshgrid(np.arange(reach + 1), np.arange(reach + 1), indexing="ij")
-    a, b = a.ravel(), b.ravel()
+    ga, gb = np.meshgrid(np.arange(reach + 1), np.arange(reach + 1), indexing="ij")
+    a, b = ga.ravel(), gb.ravel()
     dt = np.stack([a, b]).astype(np.float64) * resolution
     np.multiply(dt, dt, dt)
     dist = np.sqrt(np.add.reduce(dt, axis=0))
