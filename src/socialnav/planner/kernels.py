@@ -29,6 +29,7 @@ import time
 import numpy as np
 from numpy.typing import NDArray
 
+from socialnav.core import compiled
 from socialnav.world import proxemic_layer
 from socialnav.world.grid import GridGeometry
 from socialnav.world.proxemic_layer import person_windows
@@ -41,6 +42,7 @@ except ImportError:  # pragma: no cover - exercised only without numba installed
     _AVAILABLE = False
 
 _ENABLED = _AVAILABLE and os.environ.get("SOCIALNAV_KERNELS", "").strip().lower() != "reference"
+compiled.set_flag(_ENABLED)
 #: Seconds the last :func:`warmup` spent compiling or loading cached kernels (0 if never run).
 compile_seconds = 0.0
 _warm = False
@@ -58,6 +60,7 @@ def set_enabled(value: bool) -> bool:
     if value and not _AVAILABLE:
         raise RuntimeError("the compiled kernels need numba (pip install numba)")
     previous, _ENABLED = _ENABLED, bool(value)
+    compiled.set_flag(_ENABLED)  # the kernels of the lower layers (socialnav.moo)
     if value:
         warmup()
     return previous
@@ -816,6 +819,9 @@ def warmup() -> float:
     for goal in (15, -1):
         astar(costs, costs == 0, 0, goal, np.array([[0, 1], [1, 1]]), np.ones(2), 50.0, 3.0, 0.1)
     min_squared_distances(poses[:, -1:], np.zeros((1, 1, 2)), np.array([0], np.intp), out)
+    from socialnav.moo.paccet import warmup as paccet_warmup
+
+    paccet_warmup()
     compile_seconds = time.perf_counter() - start
     _warm = True
     return compile_seconds
