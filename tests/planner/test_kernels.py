@@ -131,6 +131,9 @@ def test_rollout_shared_headings_bit_identical(
         fast = rollout(pose, pose, twists, PR2, params)
     assert np.array_equal(fast.poses, ref.poses)
     assert np.array_equal(np.signbit(fast.poses), np.signbit(ref.poses))
+    # The per-time box kept from the rollout pass is the reduction's.
+    lo, hi = kernels.time_box(fast.poses)
+    assert np.array_equal(lo, ref.xy.min(axis=0)) and np.array_equal(hi, ref.xy.max(axis=0))
 
 
 @settings(max_examples=40)

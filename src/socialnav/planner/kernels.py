@@ -88,7 +88,7 @@ def _wrap(a, two_pi, pi):  # type: ignore[no-untyped-def]
 
 
 @_jit
-def _rollout_kernel(x0, y0, th0, twists, w_index, w_values, t, dt, two_pi, pi, out):  # type: ignore[no-untyped-def]
+def _rollout_kernel(x0, y0, th0, twists, w_index, w_values, t, dt, two_pi, pi, out, lo, hi):  # type: ignore[no-untyped-def]
     """``out (N, T, 3)``: the operations of :func:`socialnav.planner.rollout.rollout` in its
     order (heading ``th0 + w t``, Euler step with the previous heading, sequential cumulative
     sum, then the start added, yaw wrapped to ``[-pi, pi)``).
@@ -96,8 +96,13 @@ def _rollout_kernel(x0, y0, th0, twists, w_index, w_values, t, dt, two_pi, pi, o
     A sampled batch has few distinct ``w`` (one per ``vth`` sample): the heading, its ``cos``,
     ``sin`` and wrapped yaw are computed once per distinct ``w`` (``w_values (U,)``, row ``i``
     uses ``w_index[i]``; grouped by bit pattern, so every row gets the very values it would
-    compute itself)."""
+    compute itself). ``lo``/``hi (T, 2)``: the per-time box of the positions, as
+    :func:`time_box` computes it."""
     n, steps = twists.shape[0], t.shape[0]
+    for k in range(steps):
+        for a in range(2):
+            lo[k, a] = np.inf
+            hi[k, a] = -np.inf
     u = w_values.shape[0]
     cos_t = np.empty((u, steps))
     sin_t = np.empty((u, steps))
@@ -123,9 +128,22 @@ def _rollout_kernel(x0, y0, th0, twists, w_index, w_values, t, dt, two_pi, pi, o
             sk = sin_t[g, k - 1]
             sx += (vx * ck - vy * sk) * dt
             sy += (vx * sk + vy * ck) * dt
-            out[i, k, 0] = sx + x0
-            out[i, k, 1] = sy + y0
+            px = sx + x0
+            py = sy + y0
+            out[i, k, 0] = px
+            out[i, k, 1] = py
             out[i, k, 2] = yaw_t[g, k]
+            if px < lo[k, 0] or px != px:
+                lo[k, 0] = px
+            if px > hi[k, 0] or px != px:
+                hi[k, 0] = px
+            if py < lo[k, 1] or py != py:
+                lo[k, 1] = py
+            if py > hi[k, 1] or py != py:
+                hi[k, 1] = py
+    if n > 0:  # every rollout starts at the pose
+        lo[0, 0] = hi[0, 0] = x0
+        lo[0, 1] = hi[0, 1] = y0
 
 
 def rollout_poses(
@@ -135,6 +153,8 @@ def rollout_poses(
     grid ``t (T,)`` s with step ``dt`` s; bit-identical to the NumPy rollout (module doc)."""
     twists = np.ascontiguousarray(twists, dtype=np.float64)
     out = np.empty((twists.shape[0], t.size, 3))
+    lo = np.empty((t.size, 2))
+    hi = np.empty((t.size, 2))
     # Distinct w by bit pattern (not by value: -0.0 and 0.0, or NaNs, stay apart).
     bits, w_index = np.unique(twists[:, 2].view(np.int64), return_inverse=True)
     _rollout_kernel(
@@ -149,8 +169,17 @@ def rollout_poses(
         2.0 * np.pi,
         np.pi,
         out,
+        lo,
+        hi,
     )
+    global _BOX
+    _BOX = (out, lo, hi)
     return out
+
+
+# The per-time box of the last rollout's poses, computed in the rollout pass (time_box reuses
+# it for that very array: rollouts are not modified in place, critics share them).
+_BOX: tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]] | None = None
 
 
 # ---- occupancy -----------------------------------------------------------------------------
@@ -361,6 +390,9 @@ def _time_box_kernel(xy, lo, hi):  # type: ignore[no-untyped-def]
 def time_box(xy: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Per-time box of the rollout points: ``xy.min(axis=0)``, ``xy.max(axis=0)`` ``(T, 2)``
     for ``xy (N, T, 2)`` (or poses ``(N, T, 3)``), with NumPy's NaN propagation."""
+    box = _BOX
+    if box is not None and box[0] is xy and xy.shape[0] > 0:
+        return box[1].copy(), box[2].copy()
     xy = np.ascontiguousarray(xy, dtype=np.float64)
     lo = np.empty((xy.shape[1], 2))
     hi = np.empty((xy.shape[1], 2))
