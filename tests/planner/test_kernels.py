@@ -250,6 +250,31 @@ def test_warmup_compiles_ahead() -> None:
     assert after == sigs
 
 
+def test_warmup_covers_selection_search_and_layers() -> None:
+    """A navigator step that replans with the compiled search, draws the personal-space layer
+    and selects with PaCcET hits only signatures compiled at construction."""
+    from socialnav.moo import nondominated, paccet
+    from socialnav.planner.presets import build_navigator
+
+    if not kernels.enabled():
+        pytest.skip("reference path selected")
+    kernels.warmup()
+    fns = {
+        "astar": kernels._astar_kernel,
+        "proxemic": kernels._proxemic_exponents,
+        "scatter": kernels._scatter_max,
+        "s_star": paccet._s_star_kernel,
+        "front": nondominated._front_kernel,
+    }
+    before = {k: len(f.signatures) for k, f in fns.items()}
+    assert all(before.values())  # compiled (or loaded) by the warm-up
+    costmap, pose, vel, goal, path, social = scene(5, 6)
+    nav = build_navigator("paccet", PR2, costmap, goal, social, global_search="compiled")
+    for k in range(2):
+        nav.step(0.1 * k, pose, vel, social)
+    assert {k: len(f.signatures) for k, f in fns.items()} == before
+
+
 @settings(max_examples=40)
 @given(
     seed=st.integers(0, 2**31 - 1),
