@@ -268,7 +268,7 @@ def test_warmup_covers_selection_search_and_layers() -> None:
     }
     before = {k: len(f.signatures) for k, f in fns.items()}
     assert all(before.values())  # compiled (or loaded) by the warm-up
-    costmap, pose, vel, goal, path, social = scene(5, 6)
+    costmap, pose, vel, goal, _path, social = scene(5, 6)
     nav = build_navigator("paccet", PR2, costmap, goal, social, global_search="compiled")
     for k in range(2):
         nav.step(0.1 * k, pose, vel, social)

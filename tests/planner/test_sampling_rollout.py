@@ -95,6 +95,10 @@ def test_unique_rows_is_numpy_unique(seed, n, levels):
     expected = np.unique(rows, axis=0)
     got = unique_rows(rows)
     assert got.shape == expected.shape and np.array_equal(got, expected)
+    assert np.array_equal(unique_rows(expected), expected)  # already in order: kept as is
+    if expected.shape[0] > 1:  # one row out of order (or a duplicate): sorted again
+        shuffled = np.concatenate([expected, expected[:1]])
+        assert np.array_equal(unique_rows(shuffled), expected)
 
 
 @settings(max_examples=40, deadline=None)
