@@ -33,10 +33,8 @@ class StackController:
     ``params``: the local planner's ROS-named parameters — a :class:`LocalPlannerParams`, or a
     mapping of field overrides applied to the preset's own parameters (``None``: the preset's).
     ``global_search``, ``replan_mode``, ``replan_delay``: the navigator's rate-separated
-    replanning (:class:`~socialnav.planner.navigator.Navigator`). The defaults are the compiled
-    search and ``"deferred"`` (the plan requested at step k applied at step k + 2, reproducible
-    under any load), so a replan never sits inside a control step; ``"threaded"`` is for the
-    real loop only (not reproducible). Measured on the paper suite: paccet still 34/34.
+    replanning (:class:`~socialnav.planner.navigator.Navigator`; the defaults replan inline);
+    in simulation use ``replan_mode="deferred"`` (reproducible), never ``"threaded"``.
     Raises :class:`~socialnav.core.errors.ConfigurationError` for an unknown preset or field.
     """
 
@@ -45,8 +43,8 @@ class StackController:
         preset: str = "paccet",
         record: bool = False,
         params: LocalPlannerParams | Mapping[str, Any] | None = None,
-        global_search: str = "compiled",
-        replan_mode: str = "deferred",
+        global_search: str = "scipy",
+        replan_mode: str = "inline",
         replan_delay: int = 2,
     ) -> None:
         self.preset_spec = PRESETS.get(preset)
