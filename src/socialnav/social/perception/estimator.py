@@ -122,6 +122,10 @@ class ContextEstimator:
     def reset(self) -> None:
         """Forget every track and structure (a new episode)."""
         self.tracker.reset()
+        for _, detector in self.detectors:
+            reset = getattr(detector, "reset", None)  # detectors with state across cycles
+            if callable(reset):
+                reset()
         self._last_seen: dict[int, tuple[float, Person]] = {}
         self._standing: dict[int, int] = {}
 
