@@ -113,6 +113,11 @@ def fformation_section(fit: bool) -> None:
         emit("F-formation data not found: skipped")
         return
     frames = {n: load_fformations(p) for n, p in sets.items()}
+    # how much 4-direction headings (CoffeeBreak's head-pose classes) alone cost on Synth
+    frames["Synth, headings quantised to 90°"] = [
+        (np.column_stack([rows[:, :3], np.round(rows[:, 3] / (np.pi / 2)) * np.pi / 2]), truth)
+        for rows, truth in frames["Synth"]
+    ]
     params = fit_on_synth(frames["Synth"]) if fit else FFormationParams()
     variants = {
         "defaults": params,

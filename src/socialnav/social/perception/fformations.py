@@ -52,6 +52,7 @@ from scipy.sparse import csr_array
 from scipy.sparse.csgraph import connected_components
 
 from socialnav.core.geometry import FloatArray
+from socialnav.social.perception import gcff_kernel
 from socialnav.social.perception.base import (
     DETECTORS,
     STANDING_SPEED,
@@ -241,6 +242,36 @@ def gcff(positions: FloatArray, yaws: FloatArray, params: FFormationParams) -> l
 
 
 def _gcff(positions: FloatArray, yaws: FloatArray, params: FFormationParams) -> list[np.ndarray]:
+    """Groups of one component: the compiled solve (:mod:`.gcff_kernel`) or the reference."""
+    if gcff_kernel.enabled():
+        labels = gcff_kernel.solve_component(
+            positions, yaws, kernel_params(params), params.iterations
+        )
+    else:
+        labels = _labels_reference(positions, yaws, params)
+    groups = [np.flatnonzero(labels == u) for u in np.unique(labels)]
+    return [g for g in groups if g.size >= 2]
+
+
+def kernel_params(p: FFormationParams) -> FloatArray:
+    """The parameter vector of :func:`.gcff_kernel.solve_component`."""
+    return np.array(
+        [
+            p.stride,
+            p.sigma,
+            p.sigma_along,
+            p.mdl,
+            p.occlusion_cost,
+            p.occlusion_radius,
+            p.heading_tolerance,
+        ]
+    )
+
+
+def _labels_reference(
+    positions: FloatArray, yaws: FloatArray, params: FFormationParams
+) -> np.ndarray:
+    """Labels ``(K,)`` of one component by the NumPy steps of the module docstring."""
     k = positions.shape[0]
     vote = votes(positions, yaws, params.stride)
     reach = max(params.sigma, params.sigma_along) * np.sqrt(params.mdl)
@@ -261,8 +292,7 @@ def _gcff(positions: FloatArray, yaws: FloatArray, params: FFormationParams) -> 
         if np.array_equal(new, labels):
             break
         labels = new
-    groups = [np.flatnonzero(labels == u) for u in np.unique(labels)]
-    return [g for g in groups if g.size >= 2]
+    return labels
 
 
 @dataclass
@@ -290,6 +320,7 @@ class FFormationDetector(ParamDetector[FFormationParams]):
 
     def __init__(self, params: FFormationParams | None = None, **overrides: Any) -> None:
         super().__init__(params, **overrides)
+        gcff_kernel.warmup()  # compile before the first control cycle, not in it
         self.reset()
 
     def reset(self) -> None:
