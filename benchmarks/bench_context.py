@@ -37,7 +37,7 @@ from harness import Case, run_table
 from socialnav.core.scene import Person
 from socialnav.metrics.groups import PairCounts, group_detection_scores, pairwise_scores
 from socialnav.sim.perception import PerceptionNoise
-from socialnav.social.perception import ContextEstimator, EstimatorParams, MapKnowledge
+from socialnav.social.perception import ContextEstimator, EstimatorParams, MapKnowledge, gcff_kernel
 from socialnav.social.perception.estimator import estimate_once
 from socialnav.social.perception.fformations import FFormationParams, gcff
 
@@ -265,33 +265,41 @@ def noisy(people: list[Person], rng: np.random.Generator) -> list[Person]:
 def timing_section() -> None:
     """Cycles of one estimator at 10 Hz over a static crowd, its tracks exact or with the
     default perception noise; each timed call is one ``update`` after 20 warm-up cycles (the
-    tracker's running means settle), with and without the incremental reuse of GCFF solves."""
+    tracker's running means settle): the NumPy reference or the compiled GCFF solve
+    (:mod:`socialnav.social.perception.gcff_kernel`), every component solved every cycle or
+    incrementally (:class:`~socialnav.social.perception.fformations.FFormationDetector`)."""
     cases = []
     off = {"fformation": {"reuse_distance": 0.0}}
+    only = EstimatorParams(pipeline=("fformation",), detector_params=off)
+    full_off = EstimatorParams(detector_params=off)
     for n in (10, 50):
         people, knowledge = crowd(n)
         for tracks in ("exact", "noisy"):
             group = f"{n} people, {tracks} tracks"
-            for name, params in (
-                (
-                    "fformation only, solved every cycle",
-                    EstimatorParams(pipeline=("fformation",), detector_params=off),
-                ),
-                ("full pipeline, solved every cycle", EstimatorParams(detector_params=off)),
-                ("full pipeline, incremental", EstimatorParams()),
-            ):
+            variants = (
+                ("fformation only, reference, every cycle", only, False),
+                ("full, reference, every cycle", full_off, False),
+                ("full, compiled, every cycle", full_off, True),
+                ("full, compiled, incremental (default)", EstimatorParams(), True),
+            )
+            for name, params, compiled in variants:
                 est = ContextEstimator(knowledge, params)
                 rng = np.random.default_rng(7)
+                # the observations of every cycle, drawn before timing
+                frames = [noisy(people, rng) if tracks == "noisy" else people for _ in range(61)]
                 clock = itertools.count()
 
-                def step(e=est, r=rng, c=clock, noise=tracks == "noisy", pp=people) -> None:
-                    e.update(0.1 * next(c), noisy(pp, r) if noise else pp)
+                def step(e=est, fr=frames, c=clock, jit=compiled) -> None:
+                    previous = gcff_kernel.set_enabled(jit)
+                    i = next(c)
+                    e.update(0.1 * i, fr[i % len(fr)])
+                    gcff_kernel.set_enabled(previous)
 
-                base = "full pipeline, solved every cycle"
+                base = "full, reference, every cycle"
                 cases.append(Case(group, name, step, 41, 20, baseline=base))
     rows = run_table(cases, "Time per estimate (loaded 2-core machine)")
     emit("\n## Time per estimate (median of 41 cycles after 20 warm-up cycles)\n")
-    emit("| crowd | tracks | variant | median | vs solved every cycle |")
+    emit("| crowd | tracks | variant | median | speed-up vs full, reference, every cycle |")
     emit("|---|---|---|---|---|")
     for r in rows:
         crowd_, tracks = r.group.split(", ")

@@ -10,7 +10,9 @@ from hypothesis import strategies as st
 from socialnav.social.perception import gcff_kernel
 from socialnav.social.perception.fformations import (
     FFormationParams,
+    _centre,
     _labels_reference,
+    assignment_costs,
     kernel_params,
 )
 
@@ -32,6 +34,22 @@ def test_compiled_solve_labels_equal_the_reference(seed, k, tolerance, extent):
     expected = _labels_reference(pos, yaw, p)
     got = gcff_kernel.solve_component(pos, yaw, kernel_params(p), p.iterations)
     np.testing.assert_array_equal(got, expected)
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.integers(2, 7))
+def test_compiled_group_centre_and_costs_equal_the_reference(seed, k):
+    rng = np.random.default_rng(seed)
+    a = 2 * np.pi * np.arange(k) / k + rng.normal(0, 0.2, k)
+    pos = 0.8 * np.column_stack([np.cos(a), np.sin(a)]) + rng.normal(0, 0.1, (k, 2))
+    yaw = a + np.pi + rng.normal(0, 0.3, k)
+    p = FFormationParams()
+    center, costs = gcff_kernel.centre_and_costs(pos, yaw, kernel_params(p))
+    expected = _centre(pos, yaw, p)
+    np.testing.assert_allclose(center, expected, rtol=0, atol=1e-9)
+    np.testing.assert_allclose(
+        costs, assignment_costs(pos, yaw, expected[None], p)[:, 0], rtol=1e-9, atol=1e-9
+    )
 
 
 def test_a_circle_and_a_pair_facing_each_other_compiled():

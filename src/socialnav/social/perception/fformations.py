@@ -364,8 +364,13 @@ class FFormationDetector(ParamDetector[FFormationParams]):
     def _solve(self, ids: np.ndarray, pos: FloatArray, yaw: FloatArray) -> list[Candidate]:
         out = []
         for g in _gcff(pos, yaw, self.params):
-            center = _centre(pos[g], yaw[g], self.params)
-            cost = assignment_costs(pos[g], yaw[g], center[None], self.params)[:, 0]
+            if gcff_kernel.enabled():
+                center, cost = gcff_kernel.centre_and_costs(
+                    pos[g], yaw[g], kernel_params(self.params)
+                )
+            else:
+                center = _centre(pos[g], yaw[g], self.params)
+                cost = assignment_costs(pos[g], yaw[g], center[None], self.params)[:, 0]
             radius = float(np.linalg.norm(pos[g] - center, axis=1).mean())
             out.append(
                 Candidate(

@@ -290,6 +290,30 @@ def solve_component(
     )
 
 
+@_jit
+def _geometry(pos, yaw, p):  # type: ignore[no-untyped-def]
+    """Centre of all rows and each row's cost of joining it (occlusion among the rows)."""
+    cx, cy = _centre(pos, yaw, np.arange(pos.shape[0]), p)
+    center = np.empty((1, 2))
+    center[0, 0] = cx
+    center[0, 1] = cy
+    costs = np.empty((pos.shape[0], 1))
+    _costs(pos, yaw, center, p, costs)
+    return center[0], costs[:, 0]
+
+
+def centre_and_costs(
+    positions: NDArray[np.float64], yaws: NDArray[np.float64], params: NDArray[np.float64]
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """A group's o-space centre ``(2,)`` (m) and its members' costs ``(K,)`` of joining it:
+    ``fformations._centre`` and ``assignment_costs`` of the members alone."""
+    return _geometry(
+        np.ascontiguousarray(positions, dtype=np.float64),
+        np.ascontiguousarray(yaws, dtype=np.float64),
+        np.ascontiguousarray(params, dtype=np.float64),
+    )
+
+
 def warmup() -> None:
     """Compile (or load from cache) the solve for the argument types the detector passes."""
     global _warm
@@ -297,5 +321,7 @@ def warmup() -> None:
         return
     a = 2 * np.pi * np.arange(3) / 3
     pos = 0.7 * np.column_stack([np.cos(a), np.sin(a)])
-    solve_component(pos, a + np.pi, np.array([0.4, 0.1, 0.3, 25.0, 25.0, 0.25, 0.26]), 10)
+    params = np.array([0.4, 0.1, 0.3, 25.0, 25.0, 0.25, 0.26])
+    solve_component(pos, a + np.pi, params, 10)
+    centre_and_costs(pos, a + np.pi, params)
     _warm = True

@@ -123,7 +123,15 @@ class QueueDetector(ParamDetector[QueueParams]):
         pos, yaw = frame.positions[idx], frame.yaws[idx]
         service = knowledge.service_points
         out: list[Candidate] = []
+        # who stands within reach of a desk: only they can be a queue of one
+        if service.shape[0]:
+            gap = pos[:, None, :] - service[None, :, :]
+            near = (np.hypot(gap[..., 0], gap[..., 1]) <= p.service_reach).any(axis=1)
+        else:
+            near = np.zeros(idx.size, dtype=bool)
         for chain in chains(idx.size, behind_edges(pos, yaw, p)):
+            if len(chain) < max(2, p.min_members_without_map) and not near[chain[0]]:
+                continue  # too short for a queue without a desk, and no desk in reach
             if len(chain) > 1 and heading_coherence(yaw[chain]) < p.min_heading_coherence:
                 continue  # headings that turn around a centre: a conversation, not a line
             head = pos[chain[0]]
