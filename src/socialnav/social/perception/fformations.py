@@ -86,7 +86,9 @@ def votes(positions: FloatArray, yaws: FloatArray, stride: float) -> FloatArray:
     return positions + stride * np.column_stack([np.cos(yaws), np.sin(yaws)])
 
 
-def attended_gaze(positions: FloatArray, yaws: FloatArray, centers: FloatArray, tolerance: float):
+def attended_gaze(
+    positions: FloatArray, yaws: FloatArray, centers: FloatArray, tolerance: float
+) -> FloatArray:
     """Unit gaze ``(K, G, 2)`` of person ``k`` towards centre ``g``: the heading turned towards
     the centre by at most ``tolerance`` (rad), the half-width of the transactional segment
     (Kendon 1990) within which a centre costs nothing in angle."""
