@@ -7,6 +7,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from socialnav.core.jit import AVAILABLE
 from socialnav.social.perception import gcff_kernel
 from socialnav.social.perception.fformations import (
     FFormationParams,
@@ -16,7 +17,7 @@ from socialnav.social.perception.fformations import (
     kernel_params,
 )
 
-pytestmark = pytest.mark.skipif(not gcff_kernel._AVAILABLE, reason="numba not installed")
+pytestmark = pytest.mark.skipif(not AVAILABLE, reason="numba not installed")
 
 
 @settings(max_examples=60, deadline=None)

@@ -23,46 +23,32 @@ and is called when a planner is built, so no control step ever compiles. Its dur
 
 from __future__ import annotations
 
-import os
 import time
 
 import numpy as np
 from numpy.typing import NDArray
 
-try:  # numba is a core dependency; the guard keeps the reference path usable without it.
-    import numba as _numba
+from socialnav.core.jit import AVAILABLE as _AVAILABLE
+from socialnav.core.jit import KernelSwitch, njit
 
-    _AVAILABLE = True
-except ImportError:  # pragma: no cover - exercised only without numba installed
-    _AVAILABLE = False
-
-_ENABLED = _AVAILABLE and os.environ.get("SOCIALNAV_KERNELS", "").strip().lower() != "reference"
 #: Seconds the last :func:`warmup` spent compiling or loading cached kernels (0 if never run).
 compile_seconds = 0.0
 _warm = False
+_SWITCH = KernelSwitch(lambda: warmup())
 
 
 def enabled() -> bool:
     """Whether the compiled kernels are used (module docstring)."""
-    return _ENABLED
+    return _SWITCH.on
 
 
 def set_enabled(value: bool) -> bool:
     """Switch between the compiled kernels (``True``, needs numba) and the NumPy reference;
     returns the previous setting. Raises ``RuntimeError`` asking for numba when unavailable."""
-    global _ENABLED
-    if value and not _AVAILABLE:
-        raise RuntimeError("the compiled kernels need numba (pip install numba)")
-    previous, _ENABLED = _ENABLED, bool(value)
-    if value:
-        warmup()
-    return previous
+    return _SWITCH.set(value, "the compiled kernels")
 
 
-def _jit(fn):  # type: ignore[no-untyped-def]
-    if not _AVAILABLE:
-        return fn
-    return _numba.njit(cache=True, nogil=True, fastmath=False, error_model="numpy")(fn)
+_jit = njit
 
 
 # ---- rollout -------------------------------------------------------------------------------

@@ -18,43 +18,25 @@ run time. :func:`warmup` compiles (or loads from the on-disk cache) before the f
 
 from __future__ import annotations
 
-import os
-
 import numpy as np
 from numpy.typing import NDArray
 
-try:  # numba is a core dependency; the guard keeps the reference path usable without it.
-    import numba as _numba
+from socialnav.core.jit import KernelSwitch, njit
 
-    _AVAILABLE = True
-except ImportError:  # pragma: no cover - exercised only without numba installed
-    _AVAILABLE = False
-
-_ENABLED = _AVAILABLE and os.environ.get("SOCIALNAV_KERNELS", "").strip().lower() != "reference"
 _warm = False
+_SWITCH = KernelSwitch(lambda: warmup())
+_jit = njit
 
 
 def enabled() -> bool:
     """Whether the compiled solve is used (module docstring)."""
-    return _ENABLED
+    return _SWITCH.on
 
 
 def set_enabled(value: bool) -> bool:
     """Use the compiled solve (``True``, needs numba) or the NumPy reference; returns the
     previous setting. Raises ``RuntimeError`` asking for numba when it is unavailable."""
-    global _ENABLED
-    if value and not _AVAILABLE:
-        raise RuntimeError("the compiled GCFF solve needs numba (pip install numba)")
-    previous, _ENABLED = _ENABLED, bool(value)
-    if value:
-        warmup()
-    return previous
-
-
-def _jit(fn):  # type: ignore[no-untyped-def]
-    if not _AVAILABLE:
-        return fn
-    return _numba.njit(cache=True, nogil=True, fastmath=False, error_model="numpy")(fn)
+    return _SWITCH.set(value, "the compiled GCFF solve")
 
 
 @_jit
@@ -319,7 +301,7 @@ def centre_and_costs(
 def warmup() -> None:
     """Compile (or load from cache) the solve for the argument types the detector passes."""
     global _warm
-    if _warm or not _ENABLED:
+    if _warm or not _SWITCH.on:
         return
     a = 2 * np.pi * np.arange(3) / 3
     pos = 0.7 * np.column_stack([np.cos(a), np.sin(a)])
