@@ -7,9 +7,11 @@ are skipped). Prints Markdown tables and writes them to ``benchmarks/out/context
 1. F-formations (Cristani et al., BMVC 2011: Synth and CoffeeBreak Seq1; positions in cm are
    converted to metres): precision, recall and F1 at T = 2/3 and T = 1 with the rule of
    :func:`socialnav.metrics.groups.group_detection_scores`, each frame alone (no hysteresis:
-   the annotated frames are not consecutive video frames). ``--fit`` repeats the grid search
-   on Synth that chose the defaults of :class:`FFormationParams`; CoffeeBreak is never used
-   for fitting.
+   the annotated frames are not consecutive video frames), with the defaults and with GCFF's
+   vote (``heading_tolerance = 0``); also Synth with its headings quantised to 4 directions,
+   as CoffeeBreak's head-pose classes are, to see what quantisation alone costs. ``--fit``
+   repeats the grid search on Synth that chose the defaults of :class:`FFormationParams`;
+   CoffeeBreak is never used for fitting.
 2. Queues: 400 generated scenes (seeds 1014/1015; the parameters were tuned on 14/15), 2–8
    members, spacing 0.6–1.1 m, lateral bends up to 0.4 m, any orientation, position noise
    σ 0.1 m, heading noise σ 15°, with and without a desk (a service point from the map); a
@@ -20,8 +22,10 @@ are skipped). Prints Markdown tables and writes them to ``benchmarks/out/context
    estimator run over the frames in order (0.4 s apart, hysteresis on). The walking-group
    defaults were set a priori, not tuned on either.
 4. Time per ``ContextEstimator.update`` with 10 and 50 people (a mix of conversations, a
-   queue, walkers), median of repeats; the baseline row is the same estimator with the
-   F-formation detector only.
+   queue, walkers), exact tracks or with the simulator's default perception noise: the NumPy
+   reference against the compiled GCFF solve, every component solved every cycle or
+   incrementally (the default); median of 41 cycles after 20 warm-up cycles. ``--only``
+   runs one section.
 """
 
 from __future__ import annotations
