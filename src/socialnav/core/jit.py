@@ -36,7 +36,7 @@ def njit(fn: Any) -> Any:
 class KernelSwitch:
     """On/off state of one kernel module; ``warmup`` compiles its kernels when switched on."""
 
-    def __init__(self, warmup: Callable[[], None]) -> None:
+    def __init__(self, warmup: Callable[[], object]) -> None:
         self.on = requested()
         self._warmup = warmup
 
