@@ -176,6 +176,19 @@ def test_people_facing_an_artwork_are_its_viewers():
     assert est.context.artworks[0].viewer_ids == (0,)
 
 
+def test_two_people_one_behind_the_other_before_an_artwork_are_viewers_not_a_queue():
+    # the generated gallery_present scene of seed 10000: without a desk, the line of two
+    # viewers was taken for a queue, so the presenter spot had no viewers
+    art = Artwork(center=(12.175, 7.806), width=1.971, facing=np.pi)
+    people = [Person(1, (10.98, 7.904), yaw=-0.015), Person(2, (9.929, 7.26), yaw=0.203)]
+    est = estimate_once(people, MapKnowledge(artworks=(art,)))
+    assert est.context.queues == ()
+    assert sorted(est.context.artworks[0].viewer_ids) == [1, 2]
+    # a desk in reach of the head still makes it a queue
+    desk = MapKnowledge(artworks=(art,), service_points=np.array([[11.7, 7.9]]))
+    assert [q.member_ids for q in estimate_once(people, desk).context.queues] == [(1, 2)]
+
+
 # --- hysteresis ---------------------------------------------------------------------------
 
 

@@ -13,7 +13,8 @@ removing that assumption as future work; this module removes it. Every control c
    not break up a group. Without smoothing, a 0.05 m position noise on three members of an
    arc makes their fitted circle, and so the join spot, jump by metres.
 2. **Detection**, in pipeline order, each detector seeing only people that earlier ones did not
-   claim: queues (:mod:`.queues`), artwork viewers (:mod:`.viewers`), F-formations
+   claim: queues at a desk of the map, artwork viewers (:mod:`.viewers`), queues without a
+   desk (:mod:`.queues`; a line of people facing an artwork is its viewers), F-formations
    (:mod:`.fformations`, GCFF), walking groups (:mod:`.walking`). Detectors are registry
    entries (:data:`~socialnav.social.perception.base.DETECTORS`), one module each.
 3. **Hysteresis** (:mod:`.tracking`): structures carry a confidence and switch on and off with
@@ -51,7 +52,13 @@ from socialnav.social.perception.base import (
 )
 from socialnav.social.perception.tracking import HysteresisParams, StructureTracker
 
-DEFAULT_PIPELINE: tuple[str, ...] = ("queue", "viewers", "fformation", "walking_group")
+DEFAULT_PIPELINE: tuple[str, ...] = (
+    "desk_queue",
+    "viewers",
+    "queue",
+    "fformation",
+    "walking_group",
+)
 #: Queue spacing handed to the planner is clipped to this range (m): the tail slot must stay a
 #: plausible place to stand even when the members' gaps are noisy.
 SPACING_RANGE = (0.5, 1.2)
