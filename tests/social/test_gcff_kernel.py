@@ -7,7 +7,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from socialnav.core.jit import AVAILABLE
+from socialnav.core.compiled import AVAILABLE
 from socialnav.social.perception import gcff_kernel
 from socialnav.social.perception.fformations import (
     FFormationParams,

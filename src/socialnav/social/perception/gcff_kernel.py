@@ -11,8 +11,8 @@ a group and standing alone cost the same to ~1e-9. The parity tests in
 ``tests/social/test_gcff_kernel.py`` check equal labels on random scenes; on the exact,
 symmetric layouts of the Synth data 1 frame of 100 differs (a person on the MDL boundary).
 
-Selection, as for the planner's kernels (:mod:`socialnav.planner.kernels`): compiled when numba
-is importable and ``SOCIALNAV_KERNELS`` is not ``reference``; :func:`set_enabled` switches at
+Selection: the shared switch of :mod:`socialnav.core.compiled` (compiled when numba is
+importable and ``SOCIALNAV_KERNELS`` is not ``reference``); :func:`set_enabled` switches at
 run time. :func:`warmup` compiles (or loads from the on-disk cache) before the first cycle.
 """
 
@@ -21,22 +21,28 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-from socialnav.core.jit import KernelSwitch, njit
+from socialnav.core import compiled
 
 _warm = False
-_SWITCH = KernelSwitch(lambda: warmup())
-_jit = njit
+_jit = compiled.jit
 
 
 def enabled() -> bool:
-    """Whether the compiled solve is used (module docstring)."""
-    return _SWITCH.on
+    """Whether the compiled solve is used: the shared switch of :mod:`socialnav.core.compiled`."""
+    return compiled.enabled()
 
 
 def set_enabled(value: bool) -> bool:
-    """Use the compiled solve (``True``, needs numba) or the NumPy reference; returns the
+    """Set the shared switch of :mod:`socialnav.core.compiled` (the compiled kernels below the
+    planner, this one included; ``True`` needs numba) and compile this kernel; returns the
     previous setting. Raises ``RuntimeError`` asking for numba when it is unavailable."""
-    return _SWITCH.set(value, "the compiled GCFF solve")
+    if value and not compiled.AVAILABLE:
+        raise RuntimeError("the compiled GCFF solve needs numba (pip install numba)")
+    previous = compiled.enabled()
+    compiled.set_flag(value)
+    if value:
+        warmup()
+    return previous
 
 
 @_jit
@@ -301,7 +307,7 @@ def centre_and_costs(
 def warmup() -> None:
     """Compile (or load from cache) the solve for the argument types the detector passes."""
     global _warm
-    if _warm or not _SWITCH.on:
+    if _warm or not compiled.enabled():
         return
     a = 2 * np.pi * np.arange(3) / 3
     pos = 0.7 * np.column_stack([np.cos(a), np.sin(a)])
