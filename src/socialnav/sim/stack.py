@@ -36,6 +36,9 @@ class StackController:
     ``recovery``: the control loop's progress, waiting, evasion and recovery parameters — a
     :class:`RecoveryParams` or a mapping of field overrides of the preset's (``None``: the
     preset's); e.g. ``{"evasion_ttc": 0}`` switches evasion off.
+    ``global_search``, ``replan_mode``, ``replan_delay``: the navigator's rate-separated
+    replanning (:class:`~socialnav.planner.navigator.Navigator`; the defaults replan inline);
+    in simulation use ``replan_mode="deferred"`` (reproducible), never ``"threaded"``.
     Raises :class:`~socialnav.core.errors.ConfigurationError` for an unknown preset or field.
     """
 
@@ -45,12 +48,26 @@ class StackController:
         record: bool = False,
         params: LocalPlannerParams | Mapping[str, Any] | None = None,
         recovery: RecoveryParams | Mapping[str, Any] | None = None,
+        global_search: str = "scipy",
+        replan_mode: str = "inline",
+        replan_delay: int = 2,
     ) -> None:
         self.preset_spec = PRESETS.get(preset)
         self.preset = preset
         self.record = record
         self.params = _planner_params(self.preset_spec.params, params)
         self.recovery = _overrides(self.preset_spec.recovery, recovery, "recovery")
+        if global_search not in ("scipy", "compiled"):
+            raise ConfigurationError(f"global_search must be scipy|compiled, got {global_search!r}")
+        if replan_mode not in ("inline", "deferred", "threaded"):
+            raise ConfigurationError(
+                f"replan_mode must be inline|deferred|threaded, got {replan_mode!r}"
+            )
+        self.replan = {
+            "global_search": global_search,
+            "replan_mode": replan_mode,
+            "replan_delay": int(replan_delay),
+        }
         self.navigator: Navigator | None = None
 
     def reset(
@@ -58,6 +75,8 @@ class StackController:
     ) -> None:
         """Build the stack for ``scenario``; ``social`` is the context the robot sees at the
         start (default: the scenario's own, i.e. the context given)."""
+        if self.navigator is not None:
+            self.navigator.close()  # a replan still in flight belongs to the last episode
         self.navigator = build_navigator(
             self.preset,
             robot,
@@ -67,6 +86,7 @@ class StackController:
             record=self.record,
             params=self.params,
             recovery=self.recovery,
+            **self.replan,  # type: ignore[arg-type]
         )
 
     def step(
