@@ -124,3 +124,36 @@ def test_rollouts_do_not_stop_at_a_waypoint_they_pass_through():
     assert not _passing_waypoint(after)
     spot = SocialGoal(np.array([1.0, 2.0, 0.0]), "queue_tail")
     assert not _passing_waypoint(dataclasses.replace(ctx, social_goal=spot))
+
+
+def test_bug_robot_at_the_spot_makes_room_to_turn_instead_of_staying_latched():
+    """Generated queue, PR2 (dev seeds 4 and 5): at the tail slot, 0.67 m behind the last
+    member, the PR2's corners (0.46 m out) would sweep into them on the in-place turn to the
+    goal yaw; the latched goal check then reported NO_LEGAL_TRAJECTORY until the time limit.
+    Here a wall 0.38 m ahead blocks the turn: the robot backs off, turns, and drives back."""
+    from socialnav.planner.context import PlanningContext
+    from socialnav.planner.local_planner import PlannerStatus, traditional_planner
+    from socialnav.world.grid import LETHAL, Costmap, GridGeometry
+
+    geometry = GridGeometry((60, 60), 0.05, (-1.5, -1.5))
+    costs = np.zeros((60, 60), np.uint8)
+    costs[28:32, 38:40] = LETHAL  # x in [0.40, 0.50), y in [-0.10, 0.10)
+    costmap = Costmap(costs, geometry)
+    planner = traditional_planner(PR2)
+    pose, velocity = np.zeros(3), np.zeros(3)
+    goal = np.array([0.0, 0.0, np.pi / 2])
+    statuses = []
+    for k in range(150):
+        ctx = PlanningContext(pose, velocity, goal, np.zeros((1, 2)), costmap, PR2, time=0.1 * k)
+        result = planner.plan(ctx)
+        statuses.append(result.status)
+        if result.status == PlannerStatus.GOAL_REACHED:
+            break
+        c, s = np.cos(pose[2]), np.sin(pose[2])
+        cmd = result.cmd
+        pose = pose + 0.1 * np.array([c * cmd[0] - s * cmd[1], s * cmd[0] + c * cmd[1], cmd[2]])
+        velocity = cmd
+    assert statuses[0] == PlannerStatus.ROTATING_TO_GOAL  # making room, not stuck
+    assert statuses[-1] == PlannerStatus.GOAL_REACHED
+    assert np.hypot(*pose[:2]) <= planner.params.xy_goal_tolerance
+    assert abs(pose[2] - np.pi / 2) <= planner.params.yaw_goal_tolerance
