@@ -88,14 +88,38 @@ def test_stop_at_goal_holds_each_rollout_at_its_first_pose_inside_the_tolerance(
     assert same is trajs
 
 
-def test_paccet_preset_tightens_the_spot_tolerance_and_leaves_stop_at_goal_off():
+def test_paccet_preset_stops_rollouts_at_the_goal_inside_the_suites_tolerance():
     from socialnav.planner.presets import PRESETS
 
     preset = PRESETS.get("paccet")
-    assert not preset.params.stop_at_goal  # an option: it collides in navground's Cross
+    assert preset.params.stop_at_goal
+    assert preset.params.xy_goal_tolerance < 0.10  # the generated suite's arrival tolerance
     assert preset.spot_tolerance is not None and preset.spot_tolerance[0] < 0.10
-    assert not PRESETS.get("traditional").params.stop_at_goal
+    assert not PRESETS.get("traditional").params.stop_at_goal  # the ROS baseline stays ROS
     assert PR2.name == "pr2"
+
+
+def test_passing_distance_stops_rewarding_standing_still_for_an_oncoming_walker():
+    """Table 1 hallway: the walker will pass 1.4 m to the side whether the robot stands or
+    drives on; the rollout-only ID scored standing still better (the closest approach falls
+    after its horizon) and the PR2 stopped ~4 s. With the passing distance both cost alike,
+    and standing in the walker's lane costs what the encounter will."""
+    walker = SocialContext((Person(1, (2.0, 1.4), velocity=(-0.5, 0.0)),))
+    ctx = make_ctx(social=walker)
+    trajs = straight([(0.0, 0.0), (0.8, 0.0), (0.8, 1.4)], duration=1.7, steps=18)
+    plain = InterpersonalCritic(evaluation="max_over_time").score(trajs, ctx).cost
+    passing = InterpersonalCritic(evaluation="max_over_time", hold_horizon=3.0)
+    cost = passing.score(trajs, ctx).cost
+    assert plain[0] < plain[1]  # the artefact: standing still looks better
+    assert cost[0] == pytest.approx(cost[1])  # both pass at 1.4 m
+    assert cost[0] == pytest.approx(np.exp(1 / 1.4))
+    assert cost[2] > 10 * cost[0]  # ends in the walker's lane
+    static = SocialContext((Person(1, (2.0, 1.4)),))
+    ctx_static = make_ctx(social=static)
+    np.testing.assert_array_equal(  # nobody walking: no change
+        passing.score(trajs, ctx_static).cost,
+        InterpersonalCritic(evaluation="max_over_time").score(trajs, ctx_static).cost,
+    )
 
 
 def test_arrival_time_prefers_the_rollout_that_arrives_first():
@@ -157,3 +181,44 @@ def test_bug_robot_at_the_spot_makes_room_to_turn_instead_of_staying_latched():
     assert statuses[-1] == PlannerStatus.GOAL_REACHED
     assert np.hypot(*pose[:2]) <= planner.params.xy_goal_tolerance
     assert abs(pose[2] - np.pi / 2) <= planner.params.yaw_goal_tolerance
+
+
+@pytest.mark.parametrize("dx", np.linspace(0.0, 0.045, 10))
+def test_bug_footprint_grazing_a_person_is_a_collision_at_any_sub_cell_offset(dx):
+    """A PR2 corner ending 1 cm inside a person's disc is illegal wherever the disc sits in
+    its cell: people were rasterized by cell centres only, and a PR2 turning beside a queue
+    member it stood behind grazed them by 4 cm (generated queue, dev seed 5)."""
+    from socialnav.core.scene import SocialContext
+    from socialnav.planner.context import PlanningContext
+    from socialnav.planner.critics.occupancy import OccupancyCritic
+    from socialnav.planner.navigator import Navigator
+    from socialnav.world.grid import Costmap, GridGeometry
+
+    costmap = Costmap(np.zeros((80, 80), np.uint8), GridGeometry((80, 80), 0.05, (-2.0, -2.0)))
+    corner = PR2.circumscribed_radius  # the corner at yaw pi/4 lies on +x
+    person = Person(1, (corner + 0.25 - 0.01 + dx, 0.0), radius=0.25)
+    social = SocialContext((person,))
+    navigator = Navigator.__new__(Navigator)  # only the people layer is exercised
+    navigator.people_as_obstacles, navigator.robot = True, PR2
+    local = navigator._with_people(costmap, social)
+    poses = np.array([[[-0.1, 0.0, np.pi / 4], [0.0, 0.0, np.pi / 4]]])
+    trajs = Trajectories(np.zeros((1, 3)), poses, np.array([0.0, 0.1]))
+    ctx = PlanningContext(
+        np.array([-0.1, 0.0, np.pi / 4]), np.zeros(3), np.zeros(3), np.zeros((1, 2)), local, PR2
+    )
+    score = OccupancyCritic().score(trajs, ctx)
+    assert not np.isfinite(score.cost[0]) or score.illegal["collision"][0]
+
+
+@pytest.mark.slow
+def test_bug_pr2_at_a_queue_tail_turns_to_face_the_line_without_touching_it():
+    """Generated queue, dev seed 5, PR2: the slot is 0.67 m behind the last member, closer
+    than the PR2's corners (0.46 m) plus the person (0.25 m). It stayed latched with the turn
+    illegal (its check ran past the goal yaw), then grazed the member while turning."""
+    from socialnav.metrics.success import success_conditions
+    from socialnav.sim.generate import generate
+    from socialnav.sim.runner import run_episode
+
+    record = run_episode(generate("queue", 5), "paccet", "pr2", seed=5).record
+    failed = [c.name for c in success_conditions(record) if c.required and not c.passed]
+    assert failed == []

@@ -439,7 +439,12 @@ class LocalPlanner:
         twists = cmd[None]
         if ctx.cache.reach is None:
             ctx.cache.reach = 2.0 * ctx.costmap.resolution
-        trajs = rollout(ctx.pose, ctx.velocity, twists, r, p)
+        # Checked up to the goal yaw only (ROS checks sim_time): the turn stops there, and
+        # what lies beyond it (a person beside the spot) must not forbid the last few degrees.
+        turn = replace(
+            p, sim_time=max(min(p.sim_time, abs(err) / max(w, 1e-6)), p.controller_period)
+        )
+        trajs = rollout(ctx.pose, ctx.velocity, twists, r, turn)
         try:
             ev = evaluate(self.objectives, trajs, ctx)
         except CriticUnavailable as exc:
@@ -488,7 +493,10 @@ class LocalPlanner:
                     ok[j] = bool(evaluate(self.objectives, spin, ctx).legal[0])
                 if ok.any():
                     reach = np.hypot(ends[:, 0] - ctx.goal[0], ends[:, 1] - ctx.goal[1])
-                    self._room = twists[int(np.argmin(np.where(ok, reach, np.inf)))].copy()
+                    k = int(np.argmin(np.where(ok, reach, np.inf)))
+                    # Stay latched while making room: the robot turns there, then drives back.
+                    self._latch_radius = max(self._latch_radius, float(reach[k]) + 1e-3)
+                    self._room = twists[k].copy()
                     return self._room.copy()
         except CriticUnavailable:
             return None
