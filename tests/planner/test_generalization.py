@@ -222,3 +222,28 @@ def test_bug_pr2_at_a_queue_tail_turns_to_face_the_line_without_touching_it():
     record = run_episode(generate("queue", 5), "paccet", "pr2", seed=5).record
     failed = [c.name for c in success_conditions(record) if c.required and not c.passed]
     assert failed == []
+
+
+@pytest.mark.parametrize("robot_name", ["pr2", "pioneer"])
+def test_bug_presenter_spot_keeps_the_whole_footprint_outside_the_activity_space(robot_name):
+    """Generated gallery_present, PR2 (dev seeds 5, 9, 14, 15): the spot kept 0.35 m from
+    the activity space, less than a PR2's corners reach (0.46 m), and turning to face the
+    viewer there put a corner 2–4 cm inside. The spot now keeps the robot's circumscribed
+    radius (+5 cm) from it, so no yaw at the spot intrudes."""
+    from socialnav.core.robot import PIONEER
+    from socialnav.core.scene import Artwork
+    from socialnav.planner.presets import StickySocialGoal, presenter_clearance
+    from socialnav.social.spaces import activity_space_polygon, segment_polygon_distance
+
+    robot = PR2 if robot_name == "pr2" else PIONEER
+    viewer = Person(1, (2.326, 2.053), yaw=np.pi)
+    art = Artwork((0.0, 2.112), 0.858, 0.0, viewer_ids=(1,))
+    social = SocialContext((viewer,), artworks=(art,))
+    given = np.array([0.93, 2.09, 0.0])  # 0.4 of the way from the art to the viewer
+    spot = StickySocialGoal(art_clearance=presenter_clearance(robot))(
+        social, given, np.array([8.7, 1.5, np.pi])
+    )
+    assert spot is not None
+    poly = activity_space_polygon(np.array(art.center), art.width, art.facing, viewer.position)
+    xy = np.asarray(spot.pose[:2])
+    assert segment_polygon_distance(xy, xy, poly) >= robot.circumscribed_radius

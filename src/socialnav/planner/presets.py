@@ -173,8 +173,9 @@ def partner_objectives(
 
 #: ``paccet``'s ID looks this long (s) past the rollout for walkers passing its end point
 #: (``InterpersonalCritic.hold_horizon``), so standing still is not preferred to moving on only
-#: because the closest approach falls after the rollout (Table 1 PR2 time 11.5 → 11.2 s).
-PASSING_HORIZON = 3.0
+#: because the closest approach falls after the rollout (Table 1 PR2 time 11.5 s without, 10.6 s
+#: at 2 s; at 3 s the Pioneer stopped in hallway_oncoming's lane and the walker passed at 0.95 m).
+PASSING_HORIZON = 2.0
 #: ``paccet``'s arrival at a social spot (m, rad): inside the generated suite's 0.10 m / 0.2 rad
 #: (the social goals' default 0.25 m / 0.25 rad ends 0.24–0.25 m from the spot)
 RECOMMENDED_SPOT_TOLERANCE = (0.07, 0.15)
@@ -275,6 +276,18 @@ PRESETS.add(
 )
 
 
+# The presenter spot's clearance from the activity space (m): the default 0.35 m, or the
+# robot's circumscribed radius + 5 cm when larger, so its footprint stays outside at any yaw
+# (a PR2's corners, 0.46 m out, entered it while turning at the spot: generated
+# gallery_present dev seeds 5, 9, 14, 15).
+PRESENTER_MARGIN = 0.05
+
+
+def presenter_clearance(robot: RobotModel) -> float:
+    """``max(0.35, circumscribed radius + PRESENTER_MARGIN)`` m (see ``PRESENTER_MARGIN``)."""
+    return max(0.35, robot.circumscribed_radius + PRESENTER_MARGIN)
+
+
 class StickySocialGoal:
     """Resolve the social goal once and keep it while the people who define it stay put.
 
@@ -283,9 +296,15 @@ class StickySocialGoal:
     moves. It is recomputed when any person moved more than ``moved`` metres.
     """
 
-    def __init__(self, moved: float = 0.3, tolerance: tuple[float, float] | None = None) -> None:
+    def __init__(
+        self,
+        moved: float = 0.3,
+        tolerance: tuple[float, float] | None = None,
+        art_clearance: float = 0.35,
+    ) -> None:
         self.moved = moved
         self.tolerance = tolerance
+        self.art_clearance = art_clearance
         self._positions: np.ndarray | None = None
         self._goal: SocialGoal | None = None
 
@@ -302,7 +321,9 @@ class StickySocialGoal:
             or (positions.size and np.max(np.hypot(*(positions - self._positions).T)) > self.moved)
         )
         if stale:
-            self._goal = resolve_social_goal(social, given_goal, pose)
+            self._goal = resolve_social_goal(
+                social, given_goal, pose, art_clearance=self.art_clearance
+            )
             if self._goal is not None and self.tolerance is not None and not self._goal.is_waypoint:
                 from dataclasses import replace
 
@@ -408,7 +429,9 @@ def build_navigator(
         local,
         costmap,
         goal,
-        social_goal_fn=StickySocialGoal(tolerance=preset.spot_tolerance)
+        social_goal_fn=StickySocialGoal(
+            tolerance=preset.spot_tolerance, art_clearance=presenter_clearance(robot)
+        )
         if preset.social_goal
         else None,
         predict_people=preset.predict_people,
