@@ -12,7 +12,7 @@ from socialnav.experiments.planners import compared_planners
 # registry (tests/experiments/test_baselines_e2e.py checks it against the README's list).
 ALL_PLANNERS = compared_planners()
 
-# The paper's Table 1 metrics, named as in shared/reference/metrics.md.
+# The paper's Table 1 metrics, named as in socialnav.metrics.
 TABLE1_KEYS = (
     "total_distance",
     "time_to_goal",

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import builtins
+import dataclasses
 from pathlib import Path
 
 import numpy as np
@@ -386,3 +387,23 @@ def test_export_bag_command_on_a_run_folder(tmp_path: Path) -> None:
     assert result.exit_code == 2 and "mcap or sqlite3" in result.output
     result = runner.invoke(app, ["export-bag", str(tmp_path / "nothing")])
     assert result.exit_code == 2 and "episode.json" in result.output
+
+
+def test_map_bounds_ignore_far_people_and_refuse_a_km_map(tmp_path: Path) -> None:
+    """A replayed crowd can span a square; a wall kilometres off is a scale mistake.
+
+    Before: the map covered every person (a pedestrian 3 km away gave a 60,000² grid and
+    exhausted memory). The map now covers walls, obstacles, the robot and its target only, and a
+    map past the cell limit is refused with the resolution that would fit.
+    """
+    near = synthetic_record()
+    far_people = np.array(near.people_positions, copy=True)
+    far_people[:, 0, 0] = 3000.0
+    far_people[5:9, 1] = np.nan  # a replayed person absent for part of the episode
+    record = dataclasses.replace(near, people_positions=far_people)
+    assert rb.episode_map(record).geometry.shape == rb.episode_map(near).geometry.shape
+    walls = np.array([[[0.0, -1.5], [5000.0, -1.5]], [[0.0, 1.5], [0.0, 3000.0]]])
+    huge = dataclasses.replace(near, walls=walls)
+    with pytest.raises(ValueError, match=r"map_resolution ≥ 0\.\d+"):
+        export_rosbag(huge, tmp_path / "bag")
+    assert not (tmp_path / "bag").exists()

@@ -177,12 +177,13 @@ def test_table1_verdict_states_the_acceptance_plainly() -> None:
     text = table1_verdict(table1_rows(1.5, 5.25, 12.0, 0), "pr2")
     assert text == (
         "**pr2, paccet**: lateral distance 1.50 m (≥ the paper's 1.39 m), 0 intrusions; "
-        "distance +5.0% vs traditional (within 10%); time +20.0% vs traditional (outside 10%)."
+        "distance +5.0% vs traditional (within the +10% bound); "
+        "time +20.0% vs traditional (over the +10% bound)."
     )
     text = table1_verdict(table1_rows(1.2, 4.0, 10.5, 2), "pr2")
     assert "lateral distance 1.20 m (< the paper's 1.39 m), 2 intrusions" in text
-    assert "distance -20.0% vs traditional (outside 10%)" in text
-    assert "time +5.0% vs traditional (within 10%)" in text
+    assert "distance -20.0% vs traditional (within the +10% bound)" in text
+    assert "time +5.0% vs traditional (within the +10% bound)" in text
     assert table1_verdict(table1_rows(1.5, 5.0, 10.0, 0), "pioneer") == ""
 
 

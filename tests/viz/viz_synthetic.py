@@ -1,4 +1,4 @@
-"""Synthetic EpisodeRecords for the viz tests (geometry from shared/reference/scenarios.md).
+"""Synthetic EpisodeRecords for the viz tests (geometry of the paper scenarios).
 
 Robot paths are analytic (polylines sampled at constant speed), not planner output: the tests
 check drawing, not navigation.

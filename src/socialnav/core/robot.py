@@ -54,7 +54,7 @@ class RobotModel:
         return float(point_segment_distance(np.zeros(2), a, b).min())
 
 
-# The scenario suite's two robots (shared/reference/scenarios.md).
+# The scenario suite's two robots, the paper's PR2 and Pioneer.
 PR2 = RobotModel(
     name="pr2",
     holonomic=True,

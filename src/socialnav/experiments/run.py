@@ -125,7 +125,9 @@ def run_single(
     (out / "metrics.json").write_text(
         json.dumps({**metrics, "success_conditions": success}, indent=1)
     )
-    say("drawing topdown.png and decision.png …")
+    say(
+        "drawing topdown.png …" if not columns["step"] else "drawing topdown.png and decision.png …"
+    )
     save_figure(plot_episode(record, label=planner), out / "topdown.png")
     decision = decision_figure(result.diagnostics, record)
     if decision is not None:

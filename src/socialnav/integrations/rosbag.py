@@ -34,8 +34,10 @@ Decisions:
 - Frames as REP 105: ``frame_id`` (map) → ``odom_frame`` is the start pose (static: the
   simulator's odometry does not drift), ``odom_frame`` → ``base_frame`` the pose since the start;
   :func:`read_rosbag_poses` composes them back into ``frame_id``.
-- ``/map`` is the walls and obstacles rasterized at ``map_resolution`` (m/cell) over their bounds
-  and the robot's and people's positions plus 1 m (trinary: 0 free, 100 occupied).
+- ``/map`` is the walls and obstacles rasterized at ``map_resolution`` (m/cell) over their bounds,
+  the robot's positions and its target, plus 1 m (trinary: 0 free, 100 occupied). People are not
+  in the bounds: a recorded crowd may span a whole square, and RViz draws markers off the map.
+  A map over :data:`MAX_MAP_CELLS` cells raises ``ValueError`` naming a resolution that fits.
 - ``/plan`` is the global planner (:func:`~socialnav.planner.global_planner.plan_path`, navfn
   costs) rerun on that map, inflated for the robot's inscribed radius, from the recorded pose to
   ``record.target`` every ``replan_period`` s: the plan a Nav2 global planner makes there (people
@@ -269,21 +271,37 @@ def _compose(frame: FloatArray, pose: FloatArray) -> FloatArray:
     )
 
 
+# 25 M cells is a 250 m × 250 m map at 0.05 m (25 MB as int8): beyond it a bag's map is a mistake
+# of scale (a wall kilometres away), not a map anyone views, and would exhaust memory.
+MAX_MAP_CELLS = 25_000_000
+
+
 def episode_map(record: EpisodeRecord, resolution: float = 0.05) -> OccupancyMap:
-    """The walls and obstacles of ``record`` as a trinary occupancy map over their bounds and
-    every recorded position, plus 1 m."""
+    """The walls and obstacles of ``record`` as a trinary occupancy map over their bounds, the
+    robot's recorded positions and its target, plus 1 m.
+
+    Raises ``ValueError`` when the map would exceed :data:`MAX_MAP_CELLS` cells at
+    ``resolution`` (m/cell), naming the coarsest resolution that fits."""
     walls = np.asarray(record.walls, dtype=float).reshape(-1, 2, 2)
     pts = np.concatenate(
         [
             walls.reshape(-1, 2),
             *[np.asarray(o, dtype=float).reshape(-1, 2) for o in record.obstacles],
             np.asarray(record.robot_poses, dtype=float)[:, :2],
-            np.asarray(record.people_positions, dtype=float).reshape(-1, 2),
             np.asarray(record.target, dtype=float)[None, :2],
         ]
     )
+    pts = pts[np.isfinite(pts).all(axis=1)]
     lo, hi = pts.min(axis=0) - 1.0, pts.max(axis=0) + 1.0
-    shape = (math.ceil((hi[1] - lo[1]) / resolution), math.ceil((hi[0] - lo[0]) / resolution))
+    extent = hi - lo
+    cells = math.ceil(extent[1] / resolution) * math.ceil(extent[0] / resolution)
+    if cells > MAX_MAP_CELLS:
+        fits = 1.01 * math.sqrt(float(extent[0] * extent[1]) / MAX_MAP_CELLS)
+        raise ValueError(
+            f"map_resolution {resolution} m gives a {extent[0]:.0f} m × {extent[1]:.0f} m map of "
+            f"{cells} cells (limit {MAX_MAP_CELLS}); use map_resolution ≥ {fits:.3g}"
+        )
+    shape = (math.ceil(extent[1] / resolution), math.ceil(extent[0] / resolution))
     geometry = GridGeometry(shape, resolution, (float(lo[0]), float(lo[1])))
     occupied = rasterize(
         geometry, segments=walls, polygons=[np.asarray(o, dtype=float) for o in record.obstacles]
@@ -468,6 +486,7 @@ def export_rosbag(
     ):
         if not (math.isfinite(value) and value > 0):
             raise ValueError(f"{name} must be positive, got {value}")
+    omap = episode_map(record, map_resolution)  # before the folder exists: a refusal leaves none
     _prepare_path(path, overwrite)
 
     store = make_typestore()
@@ -477,7 +496,6 @@ def export_rosbag(
     odom_origin = poses[0].copy()
     odom_poses = relative_poses(odom_origin, poses)
     quats = _yaw_quaternions(odom_poses[:, 2])
-    omap = episode_map(record, map_resolution)
     plans = dict(global_plans(record, omap, replan_period))
     rollout_params = RolloutParams(sim_time=sim_time)
     yaws = people_yaws(record)

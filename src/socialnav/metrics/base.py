@@ -5,7 +5,7 @@ carries its variant (``min_distance_center`` vs ``min_distance_edge``, ``psc_0.4
 ``psc_1.2``) so two tools never disagree silently on what a number means. Undefined values are
 NaN (e.g. ``lateral_distance`` when robot and person never pass), never an exception.
 
-Conventions shared by every metric (see also ``shared/reference/metrics.md``):
+Conventions shared by every metric:
 
 - SI units, radians; "distance" without qualifier is centre-to-centre.
 - Sampled at the record's fixed step ``dt``; finite differences use ``dt``.

@@ -2,8 +2,8 @@
 
 Banisetty et al., "Socially-Aware Navigation: A Non-linear Multi-Objective Optimization
 Approach" (section "Results") evaluate a hallway, an art gallery, a queue and a group in Stage.
-The paper shows their geometry only in figures; ``shared/reference/scenarios.md`` fixes the
-numbers and the files in ``sim/scenarios/`` carry exactly those numbers. Deviations/choices:
+The paper shows their geometry only in figures; the files in ``sim/scenarios/`` fix the numbers
+(read off the figures and text, the same for every planner). Deviations/choices:
 
 - start yaws (other than the hallway's) and goal yaws are not given: starts face the given goal,
   goals face the direction of travel (or the art/desk where the goal is "in front of" it);
@@ -828,24 +828,22 @@ def _load_file(path: Path) -> Scenario:
     except OSError as exc:
         raise ConfigurationError(f"{path}: cannot read: {exc.strerror or exc}") from None
     if b"\x00" in data_bytes:
-        raise ConfigurationError(f"{path.name}: not a text file (NUL bytes): not a scenario")
+        raise ConfigurationError(f"{path}: not a text file (NUL bytes): not a scenario")
     try:
         raw = data_bytes.decode("utf-8")
     except UnicodeDecodeError as exc:
         raise ConfigurationError(
-            f"{path.name}: not UTF-8 text (byte {exc.start}): not a scenario"
+            f"{path}: not UTF-8 text (byte {exc.start}): not a scenario"
         ) from None
     if _nesting_depth(raw) > MAX_NESTING:
-        raise ConfigurationError(
-            f"{path.name}: nested deeper than {MAX_NESTING} levels: not a scenario"
-        )
+        raise ConfigurationError(f"{path}: nested deeper than {MAX_NESTING} levels: not a scenario")
     try:
         data = yaml.safe_load(raw)
     except yaml.YAMLError as exc:
-        raise ConfigurationError(f"{path.name}: invalid YAML: {exc}") from None
+        raise ConfigurationError(f"{path}: invalid YAML: {exc}") from None
     except RecursionError:
-        raise ConfigurationError(f"{path.name}: YAML nested too deeply: not a scenario") from None
-    return scenario_from_dict(data, path.name).with_source(path)
+        raise ConfigurationError(f"{path}: YAML nested too deeply: not a scenario") from None
+    return scenario_from_dict(data, str(path)).with_source(path)
 
 
 def scenario_json_schema() -> dict[str, Any]:

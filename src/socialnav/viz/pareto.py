@@ -3,7 +3,7 @@
 :func:`plot_decision` follows the paper's "Multi-Objective solution space" figure (Banisetty et
 al., section "Multi-objective optimization"): solid markers are the Pareto (non-dominated) points,
 hollow markers the dominated ones. A second panel shows the PaCcET-transformed candidates, where
-the current front lies on the simplex ``sum(T) = 1`` (shared/reference/paccet.md). Deviations:
+the current front lies on the simplex ``sum(T) = 1`` (as in the PaCcET reference code). Deviations:
 objectives are minimized (the paper's illustration maximizes), illegal candidates are drawn as grey
 crosses, and with more than two objectives the panels are 2-D projections on a pair of objectives
 chosen so that the selected candidate is seen as non-dominated where some pair allows it
