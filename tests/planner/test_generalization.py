@@ -58,7 +58,8 @@ def test_no_partners_when_not_steering_to_a_stopping_social_goal():
     wp = SocialGoal(goal.pose, "waypoint", is_waypoint=True)
     waypoint = dataclasses.replace(ctx, social_goal=wp)
     assert np.all(partner_thresholds(waypoint, 1.5, 0.05) == 1.5)
-    nobody = dataclasses.replace(ctx, social_goal=None)
+    # no social goal, a given goal far from everyone (a given goal near people: the test below)
+    nobody = dataclasses.replace(ctx, social_goal=None, goal=np.array([5.0, 5.0, 0.0]))
     assert np.all(partner_thresholds(nobody, 1.5, 0.05) == 1.5)
 
 
@@ -247,3 +248,23 @@ def test_bug_presenter_spot_keeps_the_whole_footprint_outside_the_activity_space
     poly = activity_space_polygon(np.array(art.center), art.width, art.facing, viewer.position)
     xy = np.asarray(spot.pose[:2])
     assert segment_polygon_distance(xy, xy, poly) >= robot.circumscribed_radius
+
+
+def test_bug_given_goal_beside_a_standing_person_is_not_forbidden_by_id():
+    """CrowdNav circle crossing, Pioneer (dev seeds 6, 8, 9): people end standing on the
+    circle, one 1.0 m from the robot's goal; ID (1.5 m) rose with every step toward the goal
+    and the robot crawled the last metre until the time limit. A person nearer the given goal
+    than the threshold keeps the goal's own distance from them (less the margin)."""
+    person = SocialContext((Person(1, (1.0, 0.0)),))
+    ctx = dataclasses.replace(make_ctx(social=person), goal=np.zeros(3))
+    own = partner_thresholds(ctx, 1.5, 0.05)
+    assert own[0] == pytest.approx(0.95)
+    critic = InterpersonalCritic(evaluation="max_over_time", partner_distance=True)
+    at_goal = straight([(0.0, 0.0)], start=(-1.0, 0.0))
+    assert critic.score(at_goal, ctx).cost[0] == 0.0
+    plain = InterpersonalCritic(evaluation="max_over_time").score(at_goal, ctx).cost[0]
+    assert plain > 1.0
+    closer = straight([(0.3, 0.0)], start=(-1.0, 0.0))  # past the goal, toward them: costs
+    assert critic.score(closer, ctx).cost[0] > 0.0
+    far = dataclasses.replace(ctx, goal=np.array([-3.0, 0.0, 0.0]))
+    assert partner_thresholds(far, 1.5, 0.05)[0] == 1.5  # a far goal changes nothing

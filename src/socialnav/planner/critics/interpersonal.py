@@ -24,7 +24,10 @@ Deviations and choices:
   from them less ``partner_margin`` (the formation's member spacing, the queue spacing, the
   presenter's distance), and their distance is scaled by ``threshold / own threshold`` so the
   cost has the paper's shape relative to the interaction's distance. Without it the objective
-  forbids what the social goal asks for (the robot stalls ~1.5 m from its partners).
+  forbids what the social goal asks for (the robot stalls ~1.5 m from its partners). With no
+  social goal, the same rule holds for anyone nearer the given goal than ``threshold``: the
+  goal's own distance from them, less the margin (a goal beside a standing stranger is
+  reachable without a crawl against ID).
 - Passing distance (``hold_horizon`` s, 0 = off; ``max_over_time`` only): after the rollout the
   robot is assumed to stand at the trajectory's end point while people walk on at constant
   velocity for ``hold_horizon`` s, and the distance is the minimum over the rollout and that
@@ -148,7 +151,16 @@ def partner_thresholds(ctx: PlanningContext, threshold: float, margin: float) ->
     social = ctx.social
     out = np.full(len(social.people), float(threshold))
     sg = ctx.social_goal
-    if sg is None or getattr(sg, "is_waypoint", False) or not social.people:
+    if not social.people:
+        return out
+    if sg is None:
+        # A given goal inside someone's personal space: they keep the goal's own distance
+        # from them (less the margin), so the last metres are not a crawl against ID.
+        gaps = np.linalg.norm(social.positions() - np.asarray(ctx.goal, dtype=float)[:2], axis=1)
+        near = gaps < threshold
+        out[near] = np.maximum(gaps[near] - margin, 1e-3)
+        return out
+    if getattr(sg, "is_waypoint", False):
         return out
     spot = np.asarray(sg.pose, dtype=float)[:2]
     if not np.allclose(np.asarray(sg.pose, dtype=float), ctx.goal):
