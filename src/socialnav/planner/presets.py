@@ -180,7 +180,7 @@ PASSING_HORIZON = 2.0
 #: (the social goals' default 0.25 m / 0.25 rad ends 0.24–0.25 m from the spot)
 RECOMMENDED_SPOT_TOLERANCE = (0.07, 0.15)
 #: ``paccet``'s local-planner parameters: rollouts that stop at the goal (no slow final approach:
-#: Table 1 time 14.4 → 10.5 s Pioneer, 15.2 → 10.6 s PR2) and a 0.07 m xy tolerance on the given
+#: Table 1 time 14.4 → 10.5 s Pioneer, 15.2 → 11.0 s PR2) and a 0.07 m xy tolerance on the given
 #: goal too (at 0.10 m the robot stopped on the edge of the suite's 0.10 m and a generated
 #: hallway failed ``reached_goal`` by 0.5 mm). navground's Cross and Corridor examples, where
 #: ``stop_at_goal`` once ended in a collision, pass without contact in this configuration.
