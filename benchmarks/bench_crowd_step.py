@@ -1,6 +1,7 @@
 """Control-loop step in a crowd: ``Navigator.step`` time percentiles and peak memory.
 
-Run: ``.venv/bin/python benchmarks/bench_crowd_step.py [--steps N] [--people N] [--fast S]``.
+Run: ``.venv/bin/python benchmarks/bench_crowd_step.py [--steps N] [--people N] [--fast S]
+[--replan all]``.
 
 Setup (seeded): the 27 m × 27 m room of the paper suite's group/queue scenes (540 × 540 cells
 at 0.05 m, the largest static map of the suite), the PR2 driving from (3, 3) to (24, 24) with
@@ -63,16 +64,24 @@ def _context(pos, vel):
 
 
 def run(
-    preset: str, steps: int, people: int, fast: float, compiled: bool = True
+    preset: str,
+    steps: int,
+    people: int,
+    fast: float,
+    compiled: bool = True,
+    replan: str = "inline",
+    search: str = "scipy",
 ) -> dict[str, float]:
     previous = kernels.set_enabled(compiled) if kernels.enabled() or compiled else False
     try:
-        return _run(preset, steps, people, fast)
+        return _run(preset, steps, people, fast, replan, search)
     finally:
         kernels.set_enabled(previous)
 
 
-def _run(preset: str, steps: int, people: int, fast: float) -> dict[str, float]:
+def _run(
+    preset: str, steps: int, people: int, fast: float, replan: str, search: str
+) -> dict[str, float]:
     scenario = load_scenario("group_join")
     costmap = scenario.static_costmap(PR2)
     geo = costmap.geometry
@@ -80,7 +89,9 @@ def _run(preset: str, steps: int, people: int, fast: float) -> dict[str, float]:
     rng = np.random.default_rng(SEED)
     pos, vel = _people(rng, people, fast, size)
     goal = np.array([size - 3.0, size - 3.0, 0.0])
-    nav = build_navigator(preset, PR2, costmap, goal, SocialContext())
+    nav = build_navigator(
+        preset, PR2, costmap, goal, SocialContext(), global_search=search, replan_mode=replan
+    )
     pose, twist = np.array([3.0, 3.0, 0.0]), np.zeros(3)
     times, cpu = [], []
     dt = 0.1
@@ -96,8 +107,11 @@ def _run(preset: str, steps: int, people: int, fast: float) -> dict[str, float]:
             [c * twist[0] - s * twist[1], s * twist[0] + c * twist[1], twist[2]]
         )
         pos, vel = _advance(pos, vel, dt, size)
-    # Peak memory of one warmed-up step that replans (forced by an expired replan period).
+    # Peak memory of one warmed-up step that replans (forced by an expired replan period;
+    # inline, so the replan's allocations are in the step).
     social = _context(pos, vel)
+    nav.close()
+    nav.replan_mode = "inline"
     nav._plan_time = -np.inf
     tracemalloc.start()
     nav.step(steps * dt, pose, twist, social)
@@ -116,6 +130,16 @@ def _run(preset: str, steps: int, people: int, fast: float) -> dict[str, float]:
     }
 
 
+# (replan mode, global search) rows: the current inline replan with SciPy's Dijkstra (the
+# baseline), the compiled search inline, and rate-separated replanning (deferred: applied
+# 2 steps after the request, deterministic) with the compiled search.
+CONFIGS = {
+    "inline, scipy": ("inline", "scipy"),
+    "inline, compiled search": ("inline", "compiled"),
+    "deferred, compiled search": ("deferred", "compiled"),
+}
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--steps", type=int, default=200)
@@ -128,27 +152,35 @@ def main() -> None:
         default="compiled",
         help="planner kernels: compiled (numba), the NumPy reference, or both in one run",
     )
+    parser.add_argument(
+        "--replan",
+        default="inline, scipy",
+        help="comma-free ';'-separated rows of: " + "; ".join(CONFIGS) + " (or 'all')",
+    )
     args = parser.parse_args()
     modes = {"compiled": [True], "reference": [False], "both": [False, True]}[args.kernels]
+    configs = list(CONFIGS) if args.replan == "all" else args.replan.split(";")
     print(
         f"\n## Navigator.step, {args.people} people (one at {args.fast} m/s), "
         f"{args.steps} steps, 540 × 540 map\n"
     )
     print(
-        "| preset | kernels | p50 | p95 | p99 | max | CPU p50 | CPU p99 | "
+        "| preset | kernels | replan | p50 | p95 | p99 | max | CPU p50 | CPU p99 | "
         "peak memory (replan step) |"
     )
-    print("|---|---|---|---|---|---|---|---|---|")
+    print("|---|---|---|---|---|---|---|---|---|---|")
     for name in args.presets.split(","):
         for compiled in modes:
-            r = run(name, args.steps, args.people, args.fast, compiled)
-            print(
-                f"| {name} | {'compiled' if compiled else 'numpy reference'} "
-                f"| {format_seconds(r['p50'])} | {format_seconds(r['p95'])} | "
-                f"{format_seconds(r['p99'])} | {format_seconds(r['max'])} | "
-                f"{format_seconds(r['cpu_p50'])} | {format_seconds(r['cpu_p99'])} | "
-                f"{r['peak_mb']:.1f} MB |"
-            )
+            for config in configs:
+                replan, search = CONFIGS[config.strip()]
+                r = run(name, args.steps, args.people, args.fast, compiled, replan, search)
+                print(
+                    f"| {name} | {'compiled' if compiled else 'numpy reference'} | {config} "
+                    f"| {format_seconds(r['p50'])} | {format_seconds(r['p95'])} | "
+                    f"{format_seconds(r['p99'])} | {format_seconds(r['max'])} | "
+                    f"{format_seconds(r['cpu_p50'])} | {format_seconds(r['cpu_p99'])} | "
+                    f"{r['peak_mb']:.1f} MB |"
+                )
 
 
 if __name__ == "__main__":

@@ -201,6 +201,36 @@ def test_context_file_is_read_at_configure(tmp_path, good: bool) -> None:
         rclpy.try_shutdown()
 
 
+@pytest.mark.parametrize(("context_file", "detect"), [(False, True), (False, False), (True, True)])
+def test_without_a_context_file_the_estimator_supplies_groups(
+    tmp_path, context_file: bool, detect: bool
+) -> None:
+    path = tmp_path / "context.yaml"
+    path.write_text("groups:\n  - members: [[1, 1], [2, 1]]\n")
+    overrides = [
+        Parameter("autostart", value=False),
+        Parameter("detect_social_context", value=detect),
+    ]
+    if context_file:
+        overrides.append(Parameter("social_context_file", value=str(path)))
+    rclpy.init()
+    node = SocialNavNode(parameter_overrides=overrides)
+    try:
+        assert node.trigger_configure() == TransitionCallbackReturn.SUCCESS
+        if context_file or not detect:
+            assert node.estimator is None
+            return
+        assert node.estimator is not None
+        # two people facing each other 1.2 m apart: a conversation once hysteresis is on
+        pair = (Person(1, (1.0, 1.0), yaw=0.0), Person(2, (2.2, 1.0), yaw=np.pi))
+        for k in range(6):
+            social = node.estimator.update(0.1 * k, pair).context
+        assert [g.member_ids for g in social.groups] == [(1, 2)]
+    finally:
+        node.destroy_node()
+        rclpy.try_shutdown()
+
+
 def test_topics_are_remappable() -> None:
     rclpy.init()
     node = SocialNavNode(

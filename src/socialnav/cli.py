@@ -226,8 +226,10 @@ def _compare_generated(
     resume: bool,
     backend: str = "local",
     address: str | None = None,
+    contexts: tuple[str, ...] = ("given",),
 ) -> None:
-    """``compare --suite generated``: family × planner × robot × seed (socialnav.sim.generate)."""
+    """``compare --suite generated``: family × planner × robot × seed (socialnav.sim.generate),
+    once per social context."""
     from socialnav.experiments.crowd import parse_seeds
     from socialnav.experiments.suite import generated_specs
     from socialnav.report.generated import build_generated_report
@@ -236,7 +238,9 @@ def _compare_generated(
     names = _split(families) or GENERATORS.names()
     for name in names:
         GENERATORS.get(name)  # an unknown family fails here (ConfigurationError)
-    specs = generated_specs(names, planners, robots, parse_seeds(seeds or "10000:10020"))
+    specs = generated_specs(
+        names, planners, robots, parse_seeds(seeds or "10000:10020"), contexts=contexts
+    )
     rows = _run_with_progress(specs, out, jobs, resume, "generated", backend, address)
     report = build_generated_report(rows, out)
     failed = sum(1 for r in rows if r.get("error"))
@@ -324,7 +328,16 @@ def compare(
             return
         if suite == "generated":
             _compare_generated(
-                families, planner_names, _split(robots), seeds, out, jobs, resume, backend, address
+                families,
+                planner_names,
+                _split(robots),
+                seeds,
+                out,
+                jobs,
+                resume,
+                backend,
+                address,
+                contexts=contexts[context],
             )
             return
         for name in _split(scenarios):

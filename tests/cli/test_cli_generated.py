@@ -31,6 +31,9 @@ def test_generated_specs_name_family_and_seed():
     assert [s.scenario for s in specs] == ["generated:queue"] * 2
     assert [s.seed for s in specs] == [10000, 10001]
     assert specs[0].run_id == "gen_queue__paccet__pr2__scripted__s10000"
+    both = generated_specs(["queue"], ["paccet"], ["pr2"], [10000], ("given", "detected"))
+    assert [s.context for s in both] == ["given", "detected"]
+    assert both[1].run_id == "gen_queue__paccet__pr2__scripted__detected__s10000"
 
 
 def test_compare_generated_rejects_bad_seeds_and_families(tmp_path: Path):

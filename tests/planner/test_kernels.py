@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 from contextlib import contextmanager
+from itertools import pairwise
 
 import numpy as np
 import pytest
@@ -103,6 +104,36 @@ def test_rollout_bit_identical(seed: int, n: int, sim_time: float, gran: float, 
     assert fast.poses.dtype == ref.poses.dtype
     np.testing.assert_array_equal(fast.t, ref.t)
     assert np.array_equal(fast.poses, ref.poses)
+
+
+@settings(max_examples=30)
+@given(
+    seed=st.integers(0, 2**31 - 1),
+    counts=st.tuples(st.integers(1, 13), st.integers(1, 9), st.integers(1, 17)),
+    signed_zero=st.booleans(),
+)
+def test_rollout_shared_headings_bit_identical(
+    seed: int, counts: tuple[int, int, int], signed_zero: bool
+) -> None:
+    """A sampled grid shares each w across many rows (the kernel's per-w tables); -0.0 and
+    0.0 are kept apart."""
+    rng = np.random.default_rng(seed)
+    axes = [np.sort(rng.uniform(-1.0, 1.0, c)) for c in counts]
+    twists = np.stack(np.meshgrid(*axes, indexing="ij"), -1).reshape(-1, 3)
+    if signed_zero:
+        twists[::2, 2] = 0.0
+        twists[1::2, 2] = -0.0
+    pose = np.array([*rng.uniform(-5.0, 5.0, 2), 0.0 if signed_zero else rng.uniform(-4, 4)])
+    params = RolloutParams(1.7, 0.025, 0.1)
+    with compiled(False):
+        ref = rollout(pose, pose, twists, PR2, params)
+    with compiled(True):
+        fast = rollout(pose, pose, twists, PR2, params)
+    assert np.array_equal(fast.poses, ref.poses)
+    assert np.array_equal(np.signbit(fast.poses), np.signbit(ref.poses))
+    # The per-time box kept from the rollout pass is the reduction's.
+    lo, hi = kernels.time_box(fast.poses)
+    assert np.array_equal(lo, ref.xy.min(axis=0)) and np.array_equal(hi, ref.xy.max(axis=0))
 
 
 @settings(max_examples=40)
@@ -219,6 +250,31 @@ def test_warmup_compiles_ahead() -> None:
     assert after == sigs
 
 
+def test_warmup_covers_selection_search_and_layers() -> None:
+    """A navigator step that replans with the compiled search, draws the personal-space layer
+    and selects with PaCcET hits only signatures compiled at construction."""
+    from socialnav.moo import nondominated, paccet
+    from socialnav.planner.presets import build_navigator
+
+    if not kernels.enabled():
+        pytest.skip("reference path selected")
+    kernels.warmup()
+    fns = {
+        "astar": kernels._astar_kernel,
+        "proxemic": kernels._proxemic_exponents,
+        "scatter": kernels._scatter_max,
+        "s_star": paccet._s_star_kernel,
+        "front": nondominated._front_kernel,
+    }
+    before = {k: len(f.signatures) for k, f in fns.items()}
+    assert all(before.values())  # compiled (or loaded) by the warm-up
+    costmap, pose, vel, goal, _path, social = scene(5, 6)
+    nav = build_navigator("paccet", PR2, costmap, goal, social, global_search="compiled")
+    for k in range(2):
+        nav.step(0.1 * k, pose, vel, social)
+    assert {k: len(f.signatures) for k, f in fns.items()} == before
+
+
 @settings(max_examples=40)
 @given(
     seed=st.integers(0, 2**31 - 1),
@@ -286,3 +342,86 @@ def test_global_plan_identical(seed: int, density: float, neutral: float, factor
     assert (p0.path is None) == (p1.path is None)
     if p0.path is not None:
         assert np.array_equal(p0.path, p1.path)
+
+
+@settings(max_examples=40)
+@given(
+    seed=st.integers(0, 2**31 - 1),
+    density=st.floats(0.0, 0.5),
+    neutral=st.floats(1.0, 100.0),
+    factor=st.floats(0.0, 5.0),
+    levels=st.sampled_from([1, 4, 253]),
+    tolerance=st.sampled_from([0.0, 0.3]),
+)
+def test_compiled_global_search_is_optimal(
+    seed: int, density: float, neutral: float, factor: float, levels: int, tolerance: float
+) -> None:
+    """``search="compiled"`` (A*) against SciPy's Dijkstra: the same status, goal (substitute
+    included) and cost; its path is a valid chain of moves whose weights sum to that cost
+    (few cost levels = many equal-cost paths, where the two may choose differently)."""
+    from socialnav.planner.global_planner import _OFFSETS, plan_path, traversable
+    from socialnav.world.grid import Costmap
+
+    rng = np.random.default_rng(seed)
+    shape = tuple(int(v) for v in rng.integers(3, 50, 2))
+    costs = (rng.integers(0, levels, shape) * (252 // max(levels - 1, 1))).astype(np.uint8)
+    costs[rng.random(shape) < density] = 254
+    costs[rng.random(shape) < 0.05] = 255
+    geo = GridGeometry(shape, 0.1)
+    costmap = Costmap(costs, geo)
+    start = rng.uniform(0.0, 0.1 * np.array(shape[::-1]), 2)
+    goal = rng.uniform(0.0, 0.1 * np.array(shape[::-1]), 2)
+    with compiled(True):
+        ref = plan_path(costmap, start, goal, neutral, factor, tolerance=tolerance)
+        fast = plan_path(
+            costmap, start, goal, neutral, factor, tolerance=tolerance, search="compiled"
+        )
+    assert fast.status == ref.status
+    assert (fast.path is None) == (ref.path is None)
+    if ref.path is None:
+        return
+    assert np.array_equal(fast.goal, ref.goal)
+    assert fast.cost == pytest.approx(ref.cost, rel=1e-12, abs=0.0)
+    assert np.array_equal(fast.path[0], start) and np.array_equal(fast.path[-1], fast.goal)
+    cells = [geo.world_to_cell(start)]
+    cells += [geo.world_to_cell(p) for p in fast.path[1:-1]]
+    cells += [geo.world_to_cell(fast.goal)]
+    passable = traversable(costs)
+    total = 0.0
+    for (r0, c0), (r1, c1) in pairwise(cells):
+        dr, dc = int(r1 - r0), int(c1 - c0)
+        assert (dr, dc) in _OFFSETS
+        assert passable[r1, c1]
+        if dr and dc:
+            assert passable[r0 + dr, c0] and passable[r0, c0 + dc]
+        step = 0.1 * float(np.hypot(dr, dc))
+        total += step * (neutral + factor * 0.5 * (float(costs[r0, c0]) + float(costs[r1, c1])))
+    if len(cells) > 1 and cells[0].tolist() != cells[-1].tolist():
+        assert total == pytest.approx(fast.cost, rel=1e-12, abs=0.0)
+
+
+@settings(max_examples=40)
+@given(
+    seed=st.integers(0, 2**31 - 1),
+    people=st.integers(0, 40),
+    fast=st.sampled_from([0.0, 1.0, 3.0, 5.0, 30.0]),
+    passing=st.booleans(),
+    params=st.sampled_from([(77.0, 0.25, 10.0, 5.0), (250.0, 0.64, 5.0, 5.0), (40, 0.1, 39, 0)]),
+)
+def test_proxemic_layer_identical(
+    seed: int, people: int, fast: float, passing: bool, params: tuple[float, ...]
+) -> None:
+    """The compiled personal-space layer equals the NumPy layer cell for cell: people on and
+    off the grid, standing, walking, one fast (the lobe clipped to the grid)."""
+    from socialnav.world.proxemic_layer import proxemic_costs
+
+    rng = np.random.default_rng(seed)
+    shape = tuple(int(v) for v in rng.integers(5, 120, 2))
+    geo = GridGeometry(shape, float(rng.choice([0.05, 0.1])), (float(rng.uniform(-2, 2)), 0.3))
+    pos = rng.uniform(-3.0, 0.1 * max(shape) + 3.0, (people, 2))
+    vel = rng.uniform(-1.3, 1.3, (people, 2)) * (rng.random((people, 1)) < 0.7)
+    if people:
+        vel[0] = [fast, -0.5 * fast]
+    amplitude, variance, cutoff, factor = params
+    args = (geo, pos, vel, amplitude, variance, cutoff, factor, passing)
+    assert np.array_equal(kernels.proxemic_costs(*args), proxemic_costs(*args))

@@ -9,7 +9,7 @@ from hypothesis import strategies as st
 
 from socialnav.core.robot import PIONEER, PR2
 from socialnav.planner.rollout import RolloutParams, num_steps, rollout
-from socialnav.planner.sampling import SamplingParams, axis_samples, sample_twists
+from socialnav.planner.sampling import SamplingParams, axis_samples, sample_twists, unique_rows
 
 
 def test_axis_window_and_zero_inserted():
@@ -80,6 +80,40 @@ def test_samples_stay_in_the_dynamic_window(vx, vy, w, holonomic):
     )
     translating = np.hypot(tw[:, 0], tw[:, 1]) > 0
     assert np.all(np.abs(tw[translating] - vel_c) <= lim)
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    seed=st.integers(0, 2**31 - 1),
+    n=st.integers(0, 400),
+    levels=st.integers(1, 6),
+)
+def test_unique_rows_is_numpy_unique(seed, n, levels):
+    """The sampler's row dedup is ``np.unique(axis=0)``: same rows, same order (many ties)."""
+    rng = np.random.default_rng(seed)
+    rows = rng.integers(-levels, levels + 1, (n, 3)) * 0.1
+    expected = np.unique(rows, axis=0)
+    got = unique_rows(rows)
+    assert got.shape == expected.shape and np.array_equal(got, expected)
+    assert np.array_equal(unique_rows(expected), expected)  # already in order: kept as is
+    if expected.shape[0] > 1:  # one row out of order (or a duplicate): sorted again
+        shuffled = np.concatenate([expected, expected[:1]])
+        assert np.array_equal(unique_rows(shuffled), expected)
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    vx=st.floats(-0.1, 0.55),
+    vy=st.floats(-0.3, 0.3),
+    w=st.floats(-1.0, 1.0),
+    holonomic=st.booleans(),
+    counts=st.tuples(st.integers(1, 14), st.integers(1, 10), st.integers(1, 18)),
+)
+def test_samples_are_numpy_unique_of_the_grid(vx, vy, w, holonomic, counts):
+    """Sorted unique rows exactly as ``np.unique(axis=0)`` leaves them (the selection order)."""
+    robot = PR2 if holonomic else PIONEER
+    tw = sample_twists(robot, np.array([vx, vy, w]), SamplingParams(*counts))
+    assert np.array_equal(tw, np.unique(tw, axis=0))
 
 
 # ---- rollout -----------------------------------------------------------------------------

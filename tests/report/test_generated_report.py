@@ -47,3 +47,18 @@ def test_report_numbers(tmp_path: Path):
     # the failure, with the command that reruns it
     assert "--families queue --seeds 10003:10004 --planners paccet --robots pr2" in report
     assert "at_tail_slot" in report
+
+
+def test_detected_runs_get_the_side_by_side_section_and_stay_out_of_the_rest(tmp_path: Path):
+    rows = []
+    for seed in range(10000, 10004):
+        rows.append(row("queue", "paccet", "pr2", seed, True, 12.0, context="given"))
+        detected = row("queue", "paccet", "pr2", seed, seed != 10001, 30.0, context="detected")
+        detected["run_id"] += "__detected"
+        detected["estimator_ms_median"] = 0.5
+        rows.append(detected)
+    report = build_generated_report(rows, tmp_path).read_text()
+    assert "Social context: given or detected" in report
+    assert "| paccet | 4/4 → 3/4 | 4/4 → 3/4 | 0.50 |" in report
+    # the pass-rate table counts the given runs only
+    assert "4/4 (100%)" in report and "3/4 (75%)" not in report

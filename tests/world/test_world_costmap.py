@@ -4,9 +4,12 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
-from socialnav.world.costmap import combine_max, crop
+from socialnav.world.costmap import add_obstacle_discs, combine_max, crop
 from socialnav.world.grid import LETHAL, UNKNOWN, Costmap, GridGeometry
+from socialnav.world.inflation import inflate
 
 
 def ramp_costmap() -> Costmap:
@@ -59,3 +62,47 @@ def test_combine_max_semantics():
         combine_max(base, layer.astype(np.int32))
     with pytest.raises(ValueError):
         combine_max(base, np.zeros((2, 5), np.uint8))
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    seed=st.integers(0, 2**31 - 1),
+    resolution=st.sampled_from([0.05, 0.1, 0.025, 0.07]),
+    radii=st.sampled_from(
+        [(0.325, 0.55, 10.0), (0.17, 0.55, 10.0), (0.3, 1.0, 3.0), (0.2, 0.2, 1.0)]
+    ),
+    people=st.integers(1, 25),
+    unknown=st.booleans(),
+)
+def test_discs_on_a_kept_static_inflation_are_identical(seed, resolution, radii, people, unknown):
+    """``reuse_static=True`` gives the full re-inflation's costmap cell for cell (discs on and
+    off the map, overlapping each other and walls, UNKNOWN cells), also when called again on
+    the same map with other discs (the kept part)."""
+    from socialnav.world.raster import rasterize
+
+    rng = np.random.default_rng(seed)
+    shape = tuple(int(v) for v in rng.integers(10, 90, 2))
+    geo = GridGeometry(shape, resolution, (float(rng.uniform(-1, 1)), 0.0))
+    size = np.array(shape[::-1]) * resolution
+    walls = rng.uniform(0, 1, (4, 2, 2)) * size
+    occ = rasterize(geo, segments=walls, thickness=0.1)
+    r_ins, r_inf, k = radii
+    base = inflate(
+        occ, geo, r_ins, r_inf, k, unknown=(rng.random(shape) < 0.1) if unknown else None
+    )
+    for _ in range(2):
+        discs = np.column_stack(
+            [rng.uniform(-0.5, 1.0, (people, 2)) * size, rng.uniform(0.0, 0.4, people)]
+        )
+        ref = add_obstacle_discs(base, discs, r_ins, r_inf, k)
+        fast = add_obstacle_discs(base, discs, r_ins, r_inf, k, reuse_static=True)
+        assert np.array_equal(fast.costs, ref.costs)
+
+
+def test_kept_static_inflation_applies_to_the_planner_maps():
+    """The exactness condition holds for the robots' inflation on the suite's 5 cm maps."""
+    from socialnav.core.robot import PIONEER, PR2
+    from socialnav.world.costmap import _cost_by_squared_offset
+
+    for robot in (PR2, PIONEER):
+        assert _cost_by_squared_offset(0.05, robot.inscribed_radius, 10.0, 0.55) is not None

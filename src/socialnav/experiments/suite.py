@@ -101,16 +101,19 @@ def generated_specs(
     planners: Sequence[str],
     robots: Sequence[str],
     seeds: Iterable[int],
+    contexts: Sequence[str] = ("given",),
 ) -> list[EpisodeSpec]:
     """Every family × planner × robot × seed of the generated suite (``socialnav.sim.generate``;
-    seeds below 10,000 are the development split, 10,000 and up the reporting split)."""
+    seeds below 10,000 are the development split, 10,000 and up the reporting split), once per
+    social ``contexts`` entry (``given`` and/or ``detected``)."""
     seeds = list(seeds)
     return [
-        EpisodeSpec(scenario=f"{GENERATED_PREFIX}{f}", planner=p, robot=r, seed=s)
+        EpisodeSpec(scenario=f"{GENERATED_PREFIX}{f}", planner=p, robot=r, seed=s, context=c)
         for f in families
         for p in planners
         for r in robots
         for s in seeds
+        for c in contexts
     ]
 
 

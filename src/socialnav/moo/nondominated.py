@@ -7,8 +7,10 @@ row: among identical rows only the **lowest-index copy** is reported as non-domi
 ``F[nondominated_mask(F)]`` equals the non-dominated set of the unique rows of ``F``.
 
 Algorithms: m = 1 first argmin; m = 2 lexicographic sort + running minimum, O(n log n);
-m >= 3 moocore's ``is_nondominated`` (Kung et al. dimension sweep, C), with a pure-NumPy
-fallback (lexicographic presort + blocked filter, bounded memory) selectable via ``method``.
+m >= 3 a compiled presort-and-front filter (``socialnav.core.compiled``; with
+``SOCIALNAV_KERNELS=reference`` moocore's ``is_nondominated``, Kung et al. dimension sweep, C),
+with a pure-NumPy fallback (lexicographic presort + blocked filter, bounded memory) selectable
+via ``method``.
 """
 
 from __future__ import annotations
@@ -16,6 +18,8 @@ from __future__ import annotations
 from typing import Literal
 
 import numpy as np
+
+from socialnav.core import compiled
 
 __all__ = ["dominates", "nondominated_mask", "validate_objectives"]
 
@@ -70,6 +74,8 @@ def nondominated_mask(F: np.ndarray, *, method: Method = "auto") -> np.ndarray:
         mask = np.zeros(F.shape[0], dtype=bool)
         mask[int(np.argmin(F[:, 0]))] = True  # argmin returns the first copy
         return mask
+    if method == "auto" and m >= 3 and compiled.enabled():
+        return _compiled_filter(F)
     if method == "moocore" or (method == "auto" and m >= 3):
         import moocore  # local import: keeps `import socialnav.moo` light
 
@@ -78,6 +84,63 @@ def nondominated_mask(F: np.ndarray, *, method: Method = "auto") -> np.ndarray:
     if m == 2:
         return _sweep_2d(F)
     return _blocked_numpy(F)
+
+
+@compiled.jit
+def _front_kernel(F, order, keep):  # type: ignore[no-untyped-def]
+    """Rows of ``F`` visited in ``order`` (ascending row sums: a weak dominator's sum is never
+    larger, summed in the same order; ties in index order): a row is kept unless a kept row
+    weakly dominates it, and a kept row it dominates (an equal-sum tie) is dropped again."""
+    n, m = F.shape
+    front = np.empty(n, dtype=np.int64)
+    size = 0
+    for o in range(n):
+        i = order[o]
+        dead = False
+        for q in range(size):
+            f = front[q]
+            le = True
+            for j in range(m):
+                if F[f, j] > F[i, j]:
+                    le = False
+                    break
+            if le:
+                dead = True
+                break
+        keep[i] = not dead
+        if dead:
+            continue
+        w = 0
+        for q in range(size):  # drop the kept rows that row i dominates (not its equals)
+            f = front[q]
+            ge = True
+            for j in range(m):
+                if F[i, j] > F[f, j]:
+                    ge = False
+                    break
+            if ge:
+                keep[f] = False
+            else:
+                front[w] = f
+                w += 1
+        size = w
+        front[size] = i
+        size += 1
+
+
+def _compiled_filter(F: np.ndarray) -> np.ndarray:
+    """An exact filter in one compiled pass (the mask is defined by the semantics above, so
+    every exact filter returns the same one)."""
+    order = np.argsort(F.sum(axis=1), kind="stable")
+    keep = np.empty(F.shape[0], dtype=bool)
+    _front_kernel(F, order, keep)
+    return keep
+
+
+def warmup() -> None:
+    """Compile (or load) this module's compiled kernel (``socialnav.core.compiled``)."""
+    if compiled.AVAILABLE:
+        _front_kernel(np.ones((2, 3)), np.arange(2), np.empty(2, dtype=bool))
 
 
 def _sweep_2d(F: np.ndarray) -> np.ndarray:

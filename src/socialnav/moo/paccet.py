@@ -42,6 +42,7 @@ from typing import Literal
 
 import numpy as np
 
+from socialnav.core import compiled
 from socialnav.moo.archive import ParetoArchive
 from socialnav.moo.nondominated import nondominated_mask, validate_objectives
 from socialnav.moo.scalarize import EqualWeight, Scalarization
@@ -227,8 +228,54 @@ def _s_star(x: np.ndarray, S: np.ndarray, members: np.ndarray | None = None) -> 
     return out
 
 
+@compiled.jit
+def _s_star_kernel(inv, S, skip, out):  # type: ignore[no-untyped-def]
+    """``out[i] = min_p max_j inv[i, j] * S[p, j]``: the dense path's products, maxima and
+    minima (NaN propagating as in ``np.maximum`` and ``min``), so the same values. With
+    ``skip`` (no product can be NaN) a member whose partial maximum already reaches the
+    minimum is skipped: it cannot change it."""
+    n, k = inv.shape
+    for i in range(n):
+        best = np.inf
+        for p in range(S.shape[0]):
+            m = inv[i, 0] * S[p, 0]
+            if skip and m >= best:  # the maximum only grows: it cannot lower the minimum
+                continue
+            for j in range(1, k):
+                t = inv[i, j] * S[p, j]
+                if t > m or t != t:
+                    m = t
+                    if skip and m >= best:
+                        break
+            if m < best or m != m:
+                best = m
+        out[i] = best
+
+
+def warmup() -> None:
+    """Compile (or load) the compiled kernels of PaCcET (see ``socialnav.core.compiled``)."""
+    from socialnav.moo import nondominated
+
+    nondominated.warmup()
+    if compiled.AVAILABLE:
+        _s_star_kernel(np.ones((2, 3)), np.ones((2, 3)), True, np.empty(2))
+
+
 def _s_star_dense(inv: np.ndarray, S: np.ndarray) -> np.ndarray:
-    """All pairs, one objective at a time, chunked so the (chunk, P) work matrix stays in cache."""
+    """All pairs, one objective at a time, chunked so the (chunk, P) work matrix stays in cache
+    (compiled: one pass, the same values)."""
+    if compiled.enabled() and S.shape[0] > 0 and inv.shape[1] > 0:
+        out = np.empty(inv.shape[0])
+        # A product is NaN only from a NaN, or inf (x <= 0) times a zero archive value.
+        nan = bool(np.isnan(inv).any() or np.isnan(S).any())
+        skip = not (nan or (np.isinf(inv).any() and bool((S == 0).any())))
+        _s_star_kernel(
+            np.ascontiguousarray(inv, dtype=np.float64),
+            np.ascontiguousarray(S, dtype=np.float64),
+            skip,
+            out,
+        )
+        return out
     n, k = inv.shape
     P = S.shape[0]
     out = np.empty(n)

@@ -38,6 +38,12 @@ from socialnav.planner import kernels
 from socialnav.world.grid import LETHAL, UNKNOWN, Costmap, GridGeometry
 
 PlanStatus = Literal["OK", "NO_PATH", "START_BLOCKED", "GOAL_BLOCKED"]
+#: ``"scipy"``: Dijkstra over the whole grid (``scipy.sparse.csgraph``, holds the GIL; the
+#: default). ``"compiled"``: A* with the octile lower bound (numba, no GIL, stops at the goal;
+#: needs the compiled kernels, else falls back to ``"scipy"``). Both give the optimal cost
+#: (equal to rounding) and the same statuses and substitute goals; where several paths cost
+#: exactly the same they may pick different ones, so ``"compiled"`` is opt-in.
+GlobalSearch = Literal["scipy", "compiled"]
 
 # Neighbour offsets (d_row, d_col); one CSR slot each.
 _OFFSETS = ((-1, -1), (-1, 0), (-1, 1), (0, -1), (0, 1), (1, -1), (1, 0), (1, 1))
@@ -129,6 +135,7 @@ def plan_path(
     allow_unknown: bool = False,
     tolerance: float = 0.0,
     substitutes: NDArray[np.bool_] | None = None,
+    search: GlobalSearch = "scipy",
 ) -> GlobalPlan:
     """Cheapest 8-connected path from ``start_xy (2,)`` to ``goal_xy (2,)`` (m) over ``costmap``.
 
@@ -142,7 +149,7 @@ def plan_path(
     status is then ``OK`` and ``GlobalPlan.goal`` is that substitute. A goal off the map gets
     one too when a reachable cell lies within the tolerance. ``substitutes (rows, cols)``
     optionally restricts which cells may be substitutes (e.g. those with room for the whole
-    footprint in any orientation).
+    footprint in any orientation). ``search``: :data:`GlobalSearch`.
     Raises ``InvalidInputError`` only on malformed input (NaN, wrong shape, bad parameters).
     """
     start = as_points(start_xy, "start_xy")
@@ -157,6 +164,8 @@ def plan_path(
         raise InvalidInputError(f"lethal_cost must be in [1, 255], got {lethal_cost}")
     if not (np.isfinite(tolerance) and tolerance >= 0):
         raise InvalidInputError(f"tolerance must be finite and >= 0, got {tolerance}")
+    if search not in ("scipy", "compiled"):
+        raise InvalidInputError(f"search must be 'scipy' or 'compiled', got {search!r}")
 
     geo = costmap.geometry
     costs = costmap.costs
@@ -178,8 +187,22 @@ def plan_path(
     if s_idx == g_idx:
         return GlobalPlan(np.stack([start, goal]), "OK", 0.0, goal)
 
-    graph = grid_graph(costs, geo.resolution, passable, neutral_cost, cost_factor)
-    dist, pred = dijkstra(graph, directed=True, indices=s_idx, return_predecessors=True)
+    if search == "compiled" and kernels.enabled():
+        steps = np.array([geo.resolution * float(np.hypot(dr, dc)) for dr, dc in _OFFSETS])
+        dist, pred = kernels.astar(
+            costs,
+            passable,
+            s_idx,
+            g_idx,
+            np.array(_OFFSETS),
+            steps,
+            neutral_cost,
+            cost_factor,
+            geo.resolution,
+        )
+    else:
+        graph = grid_graph(costs, geo.resolution, passable, neutral_cost, cost_factor)
+        dist, pred = dijkstra(graph, directed=True, indices=s_idx, return_predecessors=True)
     if g_idx < 0 or not np.isfinite(dist[g_idx]):
         substitute = _reachable_within(geo, dist, goal, tolerance, substitutes)
         if substitute is None:

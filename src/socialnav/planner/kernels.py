@@ -29,6 +29,11 @@ import time
 import numpy as np
 from numpy.typing import NDArray
 
+from socialnav.core import compiled
+from socialnav.world import proxemic_layer
+from socialnav.world.grid import GridGeometry
+from socialnav.world.proxemic_layer import person_windows
+
 try:  # numba is a core dependency; the guard keeps the reference path usable without it.
     import numba as _numba
 
@@ -37,6 +42,7 @@ except ImportError:  # pragma: no cover - exercised only without numba installed
     _AVAILABLE = False
 
 _ENABLED = _AVAILABLE and os.environ.get("SOCIALNAV_KERNELS", "").strip().lower() != "reference"
+compiled.set_flag(_ENABLED)
 #: Seconds the last :func:`warmup` spent compiling or loading cached kernels (0 if never run).
 compile_seconds = 0.0
 _warm = False
@@ -54,6 +60,7 @@ def set_enabled(value: bool) -> bool:
     if value and not _AVAILABLE:
         raise RuntimeError("the compiled kernels need numba (pip install numba)")
     previous, _ENABLED = _ENABLED, bool(value)
+    compiled.set_flag(_ENABLED)  # the kernels of the lower layers (socialnav.moo)
     if value:
         warmup()
     return previous
@@ -81,30 +88,62 @@ def _wrap(a, two_pi, pi):  # type: ignore[no-untyped-def]
 
 
 @_jit
-def _rollout_kernel(x0, y0, th0, twists, t, dt, two_pi, pi, out):  # type: ignore[no-untyped-def]
+def _rollout_kernel(x0, y0, th0, twists, w_index, w_values, t, dt, two_pi, pi, out, lo, hi):  # type: ignore[no-untyped-def]
     """``out (N, T, 3)``: the operations of :func:`socialnav.planner.rollout.rollout` in its
     order (heading ``th0 + w t``, Euler step with the previous heading, sequential cumulative
-    sum, then the start added, yaw wrapped to ``[-pi, pi)``)."""
+    sum, then the start added, yaw wrapped to ``[-pi, pi)``).
+
+    A sampled batch has few distinct ``w`` (one per ``vth`` sample): the heading, its ``cos``,
+    ``sin`` and wrapped yaw are computed once per distinct ``w`` (``w_values (U,)``, row ``i``
+    uses ``w_index[i]``; grouped by bit pattern, so every row gets the very values it would
+    compute itself). ``lo``/``hi (T, 2)``: the per-time box of the positions, as
+    :func:`time_box` computes it."""
     n, steps = twists.shape[0], t.shape[0]
+    for k in range(steps):
+        for a in range(2):
+            lo[k, a] = np.inf
+            hi[k, a] = -np.inf
+    u = w_values.shape[0]
+    cos_t = np.empty((u, steps))
+    sin_t = np.empty((u, steps))
+    yaw_t = np.empty((u, steps))
+    for g in range(u):
+        w = w_values[g]
+        for k in range(steps):
+            th = th0 + w * t[k]
+            cos_t[g, k] = np.cos(th)
+            sin_t[g, k] = np.sin(th)
+            yaw_t[g, k] = _wrap(th, two_pi, pi)
     for i in range(n):
         vx = twists[i, 0]
         vy = twists[i, 1]
-        w = twists[i, 2]
+        g = w_index[i]
         out[i, 0, 0] = x0
         out[i, 0, 1] = y0
+        out[i, 0, 2] = yaw_t[g, 0]
         sx = 0.0
         sy = 0.0
-        th = th0 + w * t[0]
-        out[i, 0, 2] = _wrap(th, two_pi, pi)
         for k in range(1, steps):
-            ck = np.cos(th)
-            sk = np.sin(th)
+            ck = cos_t[g, k - 1]
+            sk = sin_t[g, k - 1]
             sx += (vx * ck - vy * sk) * dt
             sy += (vx * sk + vy * ck) * dt
-            out[i, k, 0] = sx + x0
-            out[i, k, 1] = sy + y0
-            th = th0 + w * t[k]
-            out[i, k, 2] = _wrap(th, two_pi, pi)
+            px = sx + x0
+            py = sy + y0
+            out[i, k, 0] = px
+            out[i, k, 1] = py
+            out[i, k, 2] = yaw_t[g, k]
+            if px < lo[k, 0] or px != px:
+                lo[k, 0] = px
+            if px > hi[k, 0] or px != px:
+                hi[k, 0] = px
+            if py < lo[k, 1] or py != py:
+                lo[k, 1] = py
+            if py > hi[k, 1] or py != py:
+                hi[k, 1] = py
+    if n > 0:  # every rollout starts at the pose
+        lo[0, 0] = hi[0, 0] = x0
+        lo[0, 1] = hi[0, 1] = y0
 
 
 def rollout_poses(
@@ -114,18 +153,33 @@ def rollout_poses(
     grid ``t (T,)`` s with step ``dt`` s; bit-identical to the NumPy rollout (module doc)."""
     twists = np.ascontiguousarray(twists, dtype=np.float64)
     out = np.empty((twists.shape[0], t.size, 3))
+    lo = np.empty((t.size, 2))
+    hi = np.empty((t.size, 2))
+    # Distinct w by bit pattern (not by value: -0.0 and 0.0, or NaNs, stay apart).
+    bits, w_index = np.unique(twists[:, 2].view(np.int64), return_inverse=True)
     _rollout_kernel(
         float(pose[0]),
         float(pose[1]),
         float(pose[2]),
         twists,
+        np.ascontiguousarray(w_index, dtype=np.intp).reshape(-1),
+        bits.view(np.float64),
         np.ascontiguousarray(t, dtype=np.float64),
         float(dt),
         2.0 * np.pi,
         np.pi,
         out,
+        lo,
+        hi,
     )
+    global _BOX
+    _BOX = (out, lo, hi)
     return out
+
+
+# The per-time box of the last rollout's poses, computed in the rollout pass (time_box reuses
+# it for that very array: rollouts are not modified in place, critics share them).
+_BOX: tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]] | None = None
 
 
 # ---- occupancy -----------------------------------------------------------------------------
@@ -336,6 +390,9 @@ def _time_box_kernel(xy, lo, hi):  # type: ignore[no-untyped-def]
 def time_box(xy: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Per-time box of the rollout points: ``xy.min(axis=0)``, ``xy.max(axis=0)`` ``(T, 2)``
     for ``xy (N, T, 2)`` (or poses ``(N, T, 3)``), with NumPy's NaN propagation."""
+    box = _BOX
+    if box is not None and box[0] is xy and xy.shape[0] > 0:
+        return box[1].copy(), box[2].copy()
     xy = np.ascontiguousarray(xy, dtype=np.float64)
     lo = np.empty((xy.shape[1], 2))
     hi = np.empty((xy.shape[1], 2))
@@ -422,6 +479,280 @@ def grid_weights(
         float(cost_factor) * 0.5,
         out,
     )
+    return out
+
+
+# ---- global search (A*) ------------------------------------------------------------------
+
+
+@_jit
+def _heap_up(hk, hn, pos, i, key, node):  # type: ignore[no-untyped-def]
+    """Sift ``(key, node)`` up from slot ``i`` of the binary heap (keys ``hk``, nodes ``hn``,
+    ordered by ``(key, node)``)."""
+    while i > 0:
+        parent = (i - 1) >> 1
+        pk = hk[parent]
+        if pk < key or (pk == key and hn[parent] < node):
+            break
+        hk[i] = pk
+        hn[i] = hn[parent]
+        pos[hn[i]] = i
+        i = parent
+    hk[i] = key
+    hn[i] = node
+    pos[node] = i
+
+
+@_jit
+def _heap_down(hk, hn, pos, size, key, node):  # type: ignore[no-untyped-def]
+    """Place ``(key, node)`` at the root and sift it down."""
+    i = 0
+    while True:
+        child = 2 * i + 1
+        if child >= size:
+            break
+        ck, cn = hk[child], hn[child]
+        if child + 1 < size:
+            rk, rn = hk[child + 1], hn[child + 1]
+            if rk < ck or (rk == ck and rn < cn):
+                child += 1
+                ck, cn = rk, rn
+        if key < ck or (key == ck and node < cn):
+            break
+        hk[i] = ck
+        hn[i] = cn
+        pos[cn] = i
+        i = child
+    hk[i] = key
+    hn[i] = node
+    pos[node] = i
+
+
+@_jit
+def _astar_kernel(  # type: ignore[no-untyped-def]
+    costs, passable, start, goal, offsets, steps, neutral, half_factor, h_scale, dist, pred
+):
+    """A* over the 8-slot grid graph of :func:`grid_weights` (its edge weights, computed on
+    the fly with the same operations), from ``start`` (flat index) until ``goal`` (flat index,
+    or -1 for an exhaustive search) is settled. Heap key ``(g + h, node)``; ``h`` = octile
+    distance x ``h_scale`` (a lower bound of every move's cost, so consistent). Returns the
+    number of settled nodes."""
+    rows, cols = costs.shape
+    n = rows * cols
+    hk = np.empty(n)
+    hn = np.empty(n, dtype=np.int64)
+    pos = np.full(n, -1, dtype=np.int64)  # heap slot; -2 once settled
+    gr, gc = 0, 0
+    if goal >= 0:
+        gr = goal // cols
+        gc = goal - gr * cols
+    dist[start] = 0.0
+    hk[0] = 0.0
+    hn[0] = start
+    pos[start] = 0
+    size = 1
+    settled = 0
+    diag = np.sqrt(2.0) - 1.0
+    while size > 0:
+        u = hn[0]
+        pos[u] = -2
+        settled += 1
+        size -= 1
+        if size > 0:
+            _heap_down(hk, hn, pos, size, hk[size], hn[size])
+        if u == goal:
+            break
+        r = u // cols
+        c = u - r * cols
+        if not passable[r, c]:
+            continue
+        du = dist[u]
+        cu = np.float64(costs[r, c])
+        for k in range(offsets.shape[0]):
+            dr, dc = offsets[k, 0], offsets[k, 1]
+            rn, cn = r + dr, c + dc
+            if not (0 <= rn < rows and 0 <= cn < cols and passable[rn, cn]):
+                continue
+            if dr != 0 and dc != 0 and not (passable[rn, c] and passable[r, cn]):
+                continue
+            v = rn * cols + cn
+            slot = pos[v]
+            if slot == -2:
+                continue
+            nd = du + steps[k] * (neutral + half_factor * (cu + np.float64(costs[rn, cn])))
+            if nd < dist[v]:
+                dist[v] = nd
+                pred[v] = u
+                h = 0.0
+                if goal >= 0:
+                    ar = abs(rn - gr)
+                    ac = abs(cn - gc)
+                    h = h_scale * (max(ar, ac) + diag * min(ar, ac))
+                if slot == -1:
+                    slot = size
+                    size += 1
+                _heap_up(hk, hn, pos, slot, nd + h, v)
+    return settled
+
+
+def astar(
+    costs: NDArray[np.uint8],
+    passable: NDArray[np.bool_],
+    start: int,
+    goal: int,
+    offsets: NDArray[np.int64],
+    steps: NDArray[np.float64],
+    neutral_cost: float,
+    cost_factor: float,
+    resolution: float,
+) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
+    """Costs-to-come ``(rows·cols,)`` and predecessors (``-1``: none) of an A* search on the
+    global planner's grid graph from flat ``start`` to flat ``goal`` (``-1``: every reachable
+    cell, i.e. Dijkstra). Exact where settled: the goal's cost, and with ``goal = -1`` or an
+    unreachable goal the set of reachable cells, are those of a full Dijkstra; among paths of
+    equal cost the one chosen may differ from SciPy's (ties broken by heap key, node index).
+    Runs without the GIL."""
+    n = costs.size
+    dist = np.full(n, np.inf)
+    pred = np.full(n, -1, dtype=np.int64)
+    # Every move costs at least its length x neutral_cost; a hair less keeps h a lower bound
+    # after rounding.
+    h_scale = float(neutral_cost) * float(resolution) * (1.0 - 1e-9)
+    _astar_kernel(
+        np.ascontiguousarray(costs, dtype=np.uint8),
+        np.ascontiguousarray(passable, dtype=np.bool_),
+        int(start),
+        int(goal),
+        np.ascontiguousarray(offsets, dtype=np.int64),
+        np.ascontiguousarray(steps, dtype=np.float64),
+        float(neutral_cost),
+        float(cost_factor) * 0.5,
+        h_scale,
+        dist,
+        pred,
+    )
+    return dist, pred
+
+
+# ---- personal-space (proxemic) layer ---------------------------------------------------------
+
+
+@_jit
+def _proxemic_exponents(  # type: ignore[no-untyped-def]
+    windows, semi, first, last, ox, oy, res, cols_n, variance, threshold, flat, expo
+):
+    """Windows ``first..last-1`` (rows ``(r0, r1, c0, c1, x, y, cos, sin, var_front,
+    one_sided)``): the exponent ``-(mx² / 2σx² + my² / 2σ²)`` of each cell, with the
+    reference's operations, for the cells of the window whose centre lies in the ellipse
+    ``semi[k] = (along, across)`` (m, the cutoff's reach, a hair enlarged: it contains the
+    whole lobe), one row interval at a time; cells at or above ``threshold`` go to
+    ``flat``/``expo``. Returns their count."""
+    m = 0
+    for k in range(first, last):
+        r0, r1 = int(windows[k, 0]), int(windows[k, 1])
+        c0, c1 = int(windows[k, 2]), int(windows[k, 3])
+        x, y, c, s = windows[k, 4], windows[k, 5], windows[k, 6], windows[k, 7]
+        var_front = windows[k, 8]
+        one_sided = windows[k, 9] != 0.0
+        ia = 1.0 / (semi[k, 0] * semi[k, 0])
+        ib = 1.0 / (semi[k, 1] * semi[k, 1])
+        qa = c * c * ia + s * s * ib  # dx² coefficient of (mx/a)² + (my/b)² (> 0)
+        for r in range(r0, r1):
+            dy = oy + (r + 0.5) * res - y
+            qb = 2.0 * dy * c * s * (ia - ib)
+            qc = dy * dy * (s * s * ia + c * c * ib) - 1.0
+            disc = qb * qb - 4.0 * qa * qc
+            if disc < 0.0:
+                continue
+            root = np.sqrt(disc)
+            lo = (-qb - root) / (2.0 * qa)
+            hi = (-qb + root) / (2.0 * qa)
+            q0 = max(int(np.floor((x + lo - ox) / res - 0.5)) - 1, c0)
+            q1 = min(int(np.ceil((x + hi - ox) / res - 0.5)) + 2, c1)
+            for q in range(q0, q1):
+                dx = ox + (q + 0.5) * res - x
+                mx = dx * c + dy * s
+                if one_sided and mx < 0.0:
+                    continue
+                my = dy * c - dx * s
+                sx2 = var_front if mx > 0.0 else variance
+                e = -(mx * mx / (2.0 * sx2) + my * my / (2.0 * variance))
+                if e >= threshold:
+                    if m >= flat.shape[0]:
+                        return -1  # cannot happen (the caller's bound): never write past
+                    flat[m] = r * cols_n + q
+                    expo[m] = e
+                    m += 1
+    return m
+
+
+@_jit
+def _scatter_max(flat, values, out):  # type: ignore[no-untyped-def]
+    for i in range(flat.shape[0]):
+        if values[i] > out[flat[i]]:
+            out[flat[i]] = values[i]
+
+
+_PROXEMIC_BATCH = 1 << 18  # cells per compiled pass (bounds the buffers: 4 MB)
+
+
+def proxemic_costs(
+    geometry: GridGeometry,
+    positions: NDArray[np.float64],
+    velocities: NDArray[np.float64],
+    amplitude: float = 77.0,
+    variance: float = 0.25,
+    cutoff: float = 10.0,
+    velocity_factor: float = 5.0,
+    passing: bool = False,
+) -> NDArray[np.uint8]:
+    """:func:`socialnav.world.proxemic_layer.proxemic_costs`, the same uint8 layer (same
+    errors): a compiled pass visits only the cells of each person's window inside the
+    ellipse that bounds the lobe (work ~ the cells the person actually costs, clipped to the
+    grid) and computes their exponents; NumPy's ``exp`` (the reference's) runs only on the
+    cells that reach ``cutoff``."""
+    windows = person_windows(
+        geometry, positions, velocities, amplitude, variance, cutoff, velocity_factor, passing
+    )
+    out = np.zeros(geometry.shape, dtype=np.uint8)
+    if not windows:
+        return out
+    table = np.array(windows, dtype=np.float64)  # (K, 10)
+    res = float(geometry.resolution)
+    log_ratio = float(np.log(cutoff / amplitude))  # < 0
+    # Reach of the cutoff along / across the lobe: sqrt(-2 var log(cutoff / A)), enlarged.
+    along = np.sqrt(-2.0 * table[:, 8] * log_ratio) * (1.0 + 1e-6) + 1e-9
+    across = np.sqrt(-2.0 * variance * log_ratio) * (1.0 + 1e-6) + 1e-9
+    semi = np.column_stack([np.maximum(along, across), np.full(len(windows), across)])
+    # A window's visited cells are at most its area, and at most the ellipse's box.
+    area = (table[:, 1] - table[:, 0]) * (table[:, 3] - table[:, 2])
+    box = (2.0 * semi[:, 0] / res + 8.0) ** 2
+    cells = np.minimum(area, box).astype(np.int64)
+    threshold = log_ratio - 1e-6  # exp is monotone; the margin absorbs rounding
+    ox, oy = geometry.origin
+    flat_out = out.reshape(-1)
+    size = int(max(_PROXEMIC_BATCH, cells.max()))
+    flat = np.empty(size, dtype=np.int64)
+    expo = np.empty(size)
+    first = 0
+    while first < len(windows):
+        last, total = first, 0
+        while last < len(windows) and total + cells[last] <= size:
+            total += int(cells[last])
+            last += 1
+        m = _proxemic_exponents(
+            table, semi, first, last, float(ox), float(oy), res, int(geometry.shape[1]),
+            float(variance), threshold, flat, expo,
+        )  # fmt: skip
+        if m < 0:  # pragma: no cover - the bound above holds; stay correct regardless
+            return proxemic_layer.proxemic_costs(
+                geometry, positions, velocities, amplitude, variance, cutoff, velocity_factor,
+                passing,
+            )  # fmt: skip
+        a = amplitude * np.exp(expo[:m])
+        keep = a >= cutoff
+        _scatter_max(flat[:m][keep], np.floor(a[keep]).astype(np.uint8), flat_out)
+        first = last
     return out
 
 
@@ -516,7 +847,13 @@ def warmup() -> float:
     time_box(poses)
     nearest_vertex(poses[:, -1], np.zeros((2, 2)))
     grid_weights(costs, costs == 0, np.array([[0, 1]]), np.array([0.25]), 50.0, 3.0)
+    proxemic_costs(GridGeometry((4, 4), 0.25), np.ones((1, 2)), np.ones((1, 2)), passing=True)
+    for goal in (15, -1):
+        astar(costs, costs == 0, 0, goal, np.array([[0, 1], [1, 1]]), np.ones(2), 50.0, 3.0, 0.1)
     min_squared_distances(poses[:, -1:], np.zeros((1, 1, 2)), np.array([0], np.intp), out)
+    from socialnav.moo.paccet import warmup as paccet_warmup
+
+    paccet_warmup()
     compile_seconds = time.perf_counter() - start
     _warm = True
     return compile_seconds

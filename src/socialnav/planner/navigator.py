@@ -19,6 +19,16 @@ Decisions:
   timestamp jumping forward or back cannot stop periodic replanning), whenever the target
   moves by more than 5 cm / 0.05 rad, at once when the pose is more than ``max_path_deviation``
   m off the plan (a relocalization), and every ``waiting_replan_period`` s while ``WAITING``.
+- Rate-separated replanning (``replan_mode``, as Nav2 separates its planner and controller
+  servers): ``"inline"`` (default) computes a due replan inside the step that needs it.
+  ``"deferred"`` is the deterministic mode for simulation: the replan requested at step ``k``
+  (from that step's pose, target and people) runs on a worker thread and is applied at step
+  ``k + replan_delay`` exactly (joined there, waiting if it is late), so the same inputs give
+  the same run whatever the machine's load; ``"threaded"`` (the real loop, e.g. the ROS node)
+  applies it at the first step after it finished. Until then the previous plan is followed;
+  without one (the first plan, or after a failed plan left none) the step plans inline. With
+  ``global_search="compiled"`` the search runs without the GIL, so the worker does not stall
+  the control step (SciPy's Dijkstra holds it).
 - The plan is pruned behind the robot: it starts at the plan vertex nearest the robot among the
   next ``prune_lookahead`` m of the plan (so a plan looping back is not skipped ahead).
 - The local window is ``window_size`` m square around the robot (``world.costmap.crop``; off-map
@@ -35,8 +45,9 @@ Decisions:
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import replace
-from typing import Any
+from concurrent.futures import Future, ThreadPoolExecutor
+from dataclasses import dataclass, replace
+from typing import Any, Literal
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -46,7 +57,7 @@ from socialnav.core.geometry import FloatArray, wrap_angle
 from socialnav.core.robot import RobotModel
 from socialnav.core.scene import SocialContext
 from socialnav.planner.context import PlanningContext
-from socialnav.planner.global_planner import plan_path
+from socialnav.planner.global_planner import GlobalPlan, GlobalSearch, plan_path
 from socialnav.planner.limits import CycleClock, enforce_limits
 from socialnav.planner.local_planner import PlannerResult, PlannerStatus
 from socialnav.planner.protocols import LocalPlannerProtocol
@@ -58,6 +69,20 @@ from socialnav.world.grid import INSCRIBED, LETHAL, Costmap
 SocialGoalFn = Callable[[SocialContext, FloatArray, FloatArray], SocialGoal | None]
 # Per-cycle layer on the local window (e.g. a proxemic layer): (local costmap, people) -> costmap.
 CostmapLayer = Callable[[Costmap, SocialContext], Costmap]
+#: How a due global replan runs (module docstring): in the step, deferred by a fixed number
+#: of steps (deterministic), or threaded (applied when done).
+ReplanMode = Literal["inline", "deferred", "threaded"]
+
+
+@dataclass(frozen=True)
+class _PendingPlan:
+    future: Future[GlobalPlan]
+    apply_at: int  # step index at which a deferred plan is applied
+    time: float
+    pose: FloatArray
+    target: FloatArray
+    changed: bool
+    off_plan: bool
 
 
 class Navigator:
@@ -86,6 +111,9 @@ class Navigator:
         max_path_deviation: float = 1.0,
         waiting_replan_period: float = 1.0,
         people_range: float | None = None,
+        global_search: GlobalSearch = "scipy",
+        replan_mode: ReplanMode = "inline",
+        replan_delay: int = 2,
     ) -> None:
         g = np.asarray(goal, dtype=float)
         if g.shape != (3,) or not np.all(np.isfinite(g)):
@@ -123,6 +151,18 @@ class Navigator:
         self.controller_period = float(controller_period)
         self.max_path_deviation = float(max_path_deviation)
         self.waiting_replan_period = float(waiting_replan_period)
+        if global_search not in ("scipy", "compiled"):
+            raise ValueError(f"global_search must be 'scipy' or 'compiled', got {global_search!r}")
+        self.global_search: GlobalSearch = global_search
+        if replan_mode not in ("inline", "deferred", "threaded"):
+            raise ValueError(
+                f"replan_mode must be 'inline', 'deferred' or 'threaded', got {replan_mode!r}"
+            )
+        if not (isinstance(replan_delay, int) and replan_delay >= 1):
+            raise ValueError(f"replan_delay must be an int >= 1 (steps), got {replan_delay!r}")
+        self.replan_mode: ReplanMode = replan_mode
+        self.replan_delay = replan_delay
+        self._executor: ThreadPoolExecutor | None = None
         # People farther than this cannot touch the window's rollouts: half the window's
         # diagonal plus 5 m of walking.
         self.people_range = (
@@ -157,6 +197,10 @@ class Navigator:
         self._resolved: dict[tuple[float, float], FloatArray | None] = {}
         self.resolved_goal: FloatArray | None = None
         self.last_plan_status = ""
+        if getattr(self, "_pending", None) is not None:
+            self._discard_pending()
+        self._pending: _PendingPlan | None = None
+        self._step_index = 0
 
     # ---- public ---------------------------------------------------------------------------
     def step(
@@ -179,6 +223,7 @@ class Navigator:
                     PlannerResult(np.zeros(3), PlannerStatus.INVALID_INPUT, None, problem),
                     velocity,
                 )
+            self._step_index += 1
             result = self._step(t, np.asarray(pose, float), np.asarray(velocity, float), social)
             self._waiting = result.status == PlannerStatus.WAITING
             return self._limited(result, velocity)
@@ -300,6 +345,7 @@ class Navigator:
             target[:2],
             tolerance=self.goal_tolerance,
             substitutes=self._roomy,
+            search=self.global_search,
         )
         if plan.status != "OK" or plan.goal is None:
             if plan.status == "START_BLOCKED":
@@ -315,8 +361,11 @@ class Navigator:
         self._resolved[key] = out
         return out
 
-    def _with_people(self, costmap: Costmap, social: SocialContext) -> Costmap:
-        """People as obstacles, as a laser-fed obstacle layer shows them to every planner."""
+    def _with_people(
+        self, costmap: Costmap, social: SocialContext, static: bool = False
+    ) -> Costmap:
+        """People as obstacles, as a laser-fed obstacle layer shows them to every planner
+        (``static``: ``costmap`` is the fixed map, whose own inflation is kept across calls)."""
         if not (self.people_as_obstacles and social.people):
             return costmap
         # Grown by half a cell diagonal: a cell is marked when its centre is inside the disc, so
@@ -324,7 +373,7 @@ class Navigator:
         # (a PR2 corner grazed a queue member it turned beside by 4 cm).
         grown = social.radii() + costmap.resolution * np.sqrt(2.0) / 2.0
         discs = np.column_stack([social.positions(), grown])
-        return add_obstacle_discs(costmap, discs, self.robot.inscribed_radius)
+        return add_obstacle_discs(costmap, discs, self.robot.inscribed_radius, reuse_static=static)
 
     def _on_map(self, social: SocialContext) -> SocialContext:
         """The people on the map (1 m margin): the only ones a global layer can draw."""
@@ -352,6 +401,7 @@ class Navigator:
             np.hypot(*(target[:2] - self._path_target[:2])) > 0.05
             or abs(float(wrap_angle(target[2] - self._path_target[2]))) > 0.05
         )
+        self._collect(now)
         age = now - self._plan_time
         off_plan = self._off_plan(pose)
         due = (
@@ -361,36 +411,118 @@ class Navigator:
             or (self._waiting and age >= self.waiting_replan_period)
             or off_plan
         )
-        if due:
-            on_map = self._on_map(social)
-            costmap = self._with_people(self.costmap, on_map)
-            if self.global_layer is not None:
-                costmap = self.global_layer(costmap, on_map)
-            plan = plan_path(
-                costmap, pose[:2], target[:2], tolerance=0.5 * self.robot.circumscribed_radius
-            )
-            if (
-                plan.status != "OK"
-                and costmap is not self.costmap
-                and (changed or self._path is None)
-            ):
-                # Blocked only by people: follow the static plan; the local planner waits.
-                # (With a plan to this target already, it is kept below.)
-                static = plan_path(self.costmap, pose[:2], target[:2])
-                plan = static if static.status == "OK" else plan
-            self.last_plan_status = plan.status
-            self._plan_time = now
-            if plan.path is not None and plan.path.shape[0] > 0:
-                self._path = np.asarray(plan.path, dtype=float)
-            elif changed or self._path is None or off_plan:
-                self._path = (
-                    np.stack([pose[:2], target[:2]]) if self.straight_line_fallback else None
-                )
-            self._path_target = target.copy()
+        if due and self.replan_mode != "inline" and self._path is not None:
+            if self._pending is None:  # one replan in flight at a time
+                self._request(now, pose, target, social, changed, off_plan)
+        elif due:
+            self._discard_pending()
+            plan = self._compute_plan(pose, target, social, changed or self._path is None)
+            self._apply_plan(now, pose, target, plan, changed, off_plan)
         if self._path is None:
             return None
         self._path = self._prune(self._path, pose)
         return self._path
+
+    def _compute_plan(
+        self, pose: FloatArray, target: FloatArray, social: SocialContext, fresh: bool
+    ) -> GlobalPlan:
+        """The global plan from ``pose`` to ``target`` around the people on the map (pure: it
+        reads only its arguments and the navigator's fixed configuration, so it may run on
+        the replanning worker). ``fresh``: no plan to this target yet."""
+        on_map = self._on_map(social)
+        costmap = self._with_people(self.costmap, on_map, static=True)
+        if self.global_layer is not None:
+            costmap = self.global_layer(costmap, on_map)
+        plan = plan_path(
+            costmap,
+            pose[:2],
+            target[:2],
+            tolerance=0.5 * self.robot.circumscribed_radius,
+            search=self.global_search,
+        )
+        if plan.status != "OK" and costmap is not self.costmap and fresh:
+            # Blocked only by people: follow the static plan; the local planner waits.
+            # (With a plan to this target already, it is kept below.)
+            static = plan_path(self.costmap, pose[:2], target[:2], search=self.global_search)
+            plan = static if static.status == "OK" else plan
+        return plan
+
+    def _apply_plan(
+        self,
+        now: float,
+        pose: FloatArray,
+        target: FloatArray,
+        plan: GlobalPlan,
+        changed: bool,
+        off_plan: bool,
+    ) -> None:
+        self.last_plan_status = plan.status
+        self._plan_time = now
+        if plan.path is not None and plan.path.shape[0] > 0:
+            self._path = np.asarray(plan.path, dtype=float)
+        elif changed or self._path is None or off_plan:
+            self._path = np.stack([pose[:2], target[:2]]) if self.straight_line_fallback else None
+        self._path_target = target.copy()
+
+    # ---- rate-separated replanning ----------------------------------------------------------
+    def _request(
+        self,
+        now: float,
+        pose: FloatArray,
+        target: FloatArray,
+        social: SocialContext,
+        changed: bool,
+        off_plan: bool,
+    ) -> None:
+        """Start the replan of this step on the worker (module docstring, ``replan_mode``)."""
+        if self._executor is None:
+            self._executor = ThreadPoolExecutor(1, thread_name_prefix="socialnav-replan")
+        pose, target = pose.copy(), target.copy()
+        future = self._executor.submit(self._compute_plan, pose, target, social, changed)
+        self._pending = _PendingPlan(
+            future, self._step_index + self.replan_delay, now, pose, target, changed, off_plan
+        )
+        self._plan_time = now  # the period counts from the request
+
+    def _collect(self, now: float) -> None:
+        """Apply the pending plan when its step has come (deferred: joined, waiting if late)
+        or, threaded, as soon as it is done."""
+        pending = self._pending
+        if pending is None:
+            return
+        if self.replan_mode == "deferred":
+            if self._step_index < pending.apply_at:
+                return
+        elif not pending.future.done():
+            return
+        self._pending = None
+        try:
+            plan = pending.future.result()
+        except Exception as exc:  # a failed replan keeps the current plan
+            self.last_plan_status = f"replan failed: {type(exc).__name__}: {exc}"
+            return
+        self._apply_plan(
+            pending.time, pending.pose, pending.target, plan, pending.changed, pending.off_plan
+        )
+
+    def _discard_pending(self) -> None:
+        if self._pending is not None:
+            self._pending.future.cancel()
+            self._pending = None
+
+    def __getstate__(self) -> dict[str, Any]:
+        # The worker and an in-flight plan stay with the process (a copy replans anew).
+        state = self.__dict__.copy()
+        state["_executor"] = None
+        state["_pending"] = None
+        return state
+
+    def close(self) -> None:
+        """Stop the replanning worker (it is started again when needed)."""
+        self._discard_pending()
+        if self._executor is not None:
+            self._executor.shutdown(wait=True)
+            self._executor = None
 
     def _prune(self, path: FloatArray, pose: FloatArray) -> FloatArray:
         if path.shape[0] < 2:

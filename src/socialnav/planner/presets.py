@@ -35,8 +35,10 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
+from numpy.typing import NDArray
 
 from socialnav.core.errors import ConfigurationError
 from socialnav.core.registry import Registry
@@ -45,21 +47,23 @@ from socialnav.core.scene import SocialContext
 from socialnav.moo.paccet import PaccetOptions
 from socialnav.moo.scalarize import L1Target, Weighted
 from socialnav.moo.selection import PaccetSelection, SelectionStrategy, WeightedSum
+from socialnav.planner import kernels
 from socialnav.planner.context import PlanningContext
 from socialnav.planner.critics.activity_space import ActivitySpaceCritic
 from socialnav.planner.critics.group import GroupCritic
 from socialnav.planner.critics.interpersonal import InterpersonalCritic
 from socialnav.planner.critics.social_goal import SocialGoalCritic
+from socialnav.planner.global_planner import GlobalSearch
 from socialnav.planner.local_planner import (
     LocalPlanner,
     LocalPlannerParams,
     traditional_objectives,
 )
-from socialnav.planner.navigator import CostmapLayer, Navigator
+from socialnav.planner.navigator import CostmapLayer, Navigator, ReplanMode
 from socialnav.planner.objectives import Objective
 from socialnav.planner.recovery import RecoveringPlanner, RecoveryParams
 from socialnav.social.goals import SocialGoal
-from socialnav.world.grid import Costmap
+from socialnav.world.grid import Costmap, GridGeometry
 
 # The reference navigation code's scalarization weights, by objective kind.
 PAPER_WEIGHTS = {"navigation": 0.4, "ID": 0.5, "GD": 0.0, "SGD": 1.0, "AS": 0.5}
@@ -394,6 +398,9 @@ def build_navigator(
     recovery: RecoveryParams | None = None,
     default_tolerance: float = 1.0,
     planner_frequency: float = 0.5,
+    global_search: GlobalSearch = "scipy",
+    replan_mode: ReplanMode = "inline",
+    replan_delay: int = 2,
 ) -> Navigator:
     """The stack of preset ``name``: global plan, local planner with recoveries, social goal.
 
@@ -401,7 +408,9 @@ def build_navigator(
     ``required_movement_radius``/``movement_time_allowance``, ``controller_patience``, waiting
     and evasion; :class:`~socialnav.planner.recovery.RecoveryParams`; default the preset's),
     ``default_tolerance`` (m, navfn: how far a blocked goal may move to a reachable point) and
-    ``planner_frequency`` (Hz, move_base: periodic global replanning). The objective set follows
+    ``planner_frequency`` (Hz, move_base: periodic global replanning); ``global_search``,
+    ``replan_mode`` and ``replan_delay`` as in :class:`Navigator` (rate-separated replanning;
+    the defaults replan inline with SciPy's Dijkstra). The objective set follows
     the people in view every cycle (:class:`SceneObjectives`); ``social`` only seeds it.
     Raises ``ConfigurationError`` on an unknown preset or a non-positive ``planner_frequency``.
     """
@@ -414,7 +423,6 @@ def build_navigator(
     layer: CostmapLayer | None = None
     if preset.proxemic_layer:
         from socialnav.world.costmap import combine_max
-        from socialnav.world.proxemic_layer import proxemic_costs
 
         def proxemic(local_costmap: Costmap, people: SocialContext) -> Costmap:
             costs = proxemic_costs(local_costmap.geometry, people.positions(), people.velocities())
@@ -442,7 +450,19 @@ def build_navigator(
         window_size=LOCAL_WINDOW,
         goal_tolerance=default_tolerance,
         replan_period=1.0 / planner_frequency,
+        global_search=global_search,
+        replan_mode=replan_mode,
+        replan_delay=replan_delay,
     )
+
+
+def proxemic_costs(geometry: GridGeometry, *args: Any, **kwargs: Any) -> NDArray[np.uint8]:
+    """:func:`socialnav.world.proxemic_layer.proxemic_costs` on the compiled kernels when they
+    are on (:func:`socialnav.planner.kernels.proxemic_costs`: the same layer), else NumPy."""
+    from socialnav.world import proxemic_layer
+
+    fn = kernels.proxemic_costs if kernels.enabled() else proxemic_layer.proxemic_costs
+    return fn(geometry, *args, **kwargs)
 
 
 # A Gaussian personal-space cost for global planning: 250 at the person, about 80 at 1.2 m
@@ -456,7 +476,6 @@ def personal_space_layer(costmap: Costmap, social: SocialContext) -> Costmap:
     """``costmap`` with a Gaussian personal-space cost per person and o-space costs."""
     from socialnav.social.spaces import o_space
     from socialnav.world.costmap import combine_max
-    from socialnav.world.proxemic_layer import proxemic_costs
 
     if not social.people:
         return costmap

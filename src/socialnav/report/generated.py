@@ -15,7 +15,7 @@ from typing import Any
 
 import numpy as np
 
-from socialnav.report.build import _planner_order, wilson_interval
+from socialnav.report.build import _planner_order, context_section, wilson_interval
 from socialnav.report.document import (
     Document,
     Heading,
@@ -228,7 +228,13 @@ def worst_failures_section(
 
 
 def build_generated_report(rows: Sequence[dict[str, Any]], out_dir: Path) -> Path:
-    """Write ``report.md`` and ``report.html`` of a generated-suite run into ``out_dir``."""
+    """Write ``report.md`` and ``report.html`` of a generated-suite run into ``out_dir``.
+
+    With runs of both contexts, every section but "Social context" reports the given runs."""
+    all_rows = list(rows)
+    all_ok = [r for r in rows if not r.get("error")]
+    if any(r.get("context", "given") != "given" for r in rows):
+        rows = [r for r in rows if r.get("context", "given") == "given"] or list(rows)
     ok = [r for r in rows if not r.get("error")]
     planners = _planner_order(ok) if ok else []
     seeds = sorted({int(r["seed"]) for r in rows})
@@ -251,7 +257,9 @@ def build_generated_report(rows: Sequence[dict[str, Any]], out_dir: Path) -> Pat
     efficiency_section(doc, ok, planners)
     crowdnav_section(doc, ok, planners)
     worst_failures_section(doc, ok, out_dir)
-    errors = [r for r in rows if r.get("error")]
+    if any(r.get("context", "given") == "detected" for r in all_ok):
+        context_section(doc, [{**r, "family": family_of(r)} for r in all_ok], planners)
+    errors = [r for r in all_rows if r.get("error")]
     if errors:
         doc.add(Heading("Errors"))
         doc.add(

@@ -32,6 +32,9 @@ class StackController:
 
     ``params``: the local planner's ROS-named parameters — a :class:`LocalPlannerParams`, or a
     mapping of field overrides applied to the preset's own parameters (``None``: the preset's).
+    ``global_search``, ``replan_mode``, ``replan_delay``: the navigator's rate-separated
+    replanning (:class:`~socialnav.planner.navigator.Navigator`; the defaults replan inline);
+    in simulation use ``replan_mode="deferred"`` (reproducible), never ``"threaded"``.
     Raises :class:`~socialnav.core.errors.ConfigurationError` for an unknown preset or field.
     """
 
@@ -40,11 +43,25 @@ class StackController:
         preset: str = "paccet",
         record: bool = False,
         params: LocalPlannerParams | Mapping[str, Any] | None = None,
+        global_search: str = "scipy",
+        replan_mode: str = "inline",
+        replan_delay: int = 2,
     ) -> None:
         self.preset_spec = PRESETS.get(preset)
         self.preset = preset
         self.record = record
         self.params = _planner_params(self.preset_spec.params, params)
+        if global_search not in ("scipy", "compiled"):
+            raise ConfigurationError(f"global_search must be scipy|compiled, got {global_search!r}")
+        if replan_mode not in ("inline", "deferred", "threaded"):
+            raise ConfigurationError(
+                f"replan_mode must be inline|deferred|threaded, got {replan_mode!r}"
+            )
+        self.replan = {
+            "global_search": global_search,
+            "replan_mode": replan_mode,
+            "replan_delay": int(replan_delay),
+        }
         self.navigator: Navigator | None = None
 
     def reset(
@@ -52,6 +69,8 @@ class StackController:
     ) -> None:
         """Build the stack for ``scenario``; ``social`` is the context the robot sees at the
         start (default: the scenario's own, i.e. the context given)."""
+        if self.navigator is not None:
+            self.navigator.close()  # a replan still in flight belongs to the last episode
         self.navigator = build_navigator(
             self.preset,
             robot,
@@ -60,6 +79,7 @@ class StackController:
             social=scenario.social_context(scenario.start) if social is None else social,
             record=self.record,
             params=self.params,
+            **self.replan,  # type: ignore[arg-type]
         )
 
     def step(

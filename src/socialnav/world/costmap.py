@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from functools import lru_cache
+
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
@@ -71,10 +73,18 @@ def add_obstacle_discs(
     inscribed_radius: float,
     inflation_radius: float = 0.55,
     cost_scaling_factor: float = 10.0,
+    *,
+    reuse_static: bool = False,
 ) -> Costmap:
     """Mark discs ``(D, 3)`` ``[x, y, r]`` as obstacles and re-inflate — costmap_2d's obstacle
     layer seeing people in the laser scan, the way the ROS planner avoids people it treats as
-    obstacles. Existing LETHAL and UNKNOWN cells are kept."""
+    obstacles. Existing LETHAL and UNKNOWN cells are kept.
+
+    ``reuse_static=True`` (for a fixed map called on again, e.g. the global costmap at every
+    replan): the inflation of the map's own LETHAL cells is computed once and kept, and only
+    the cells within the inflation radius of a disc are recomputed — the same costmap, cell
+    for cell (:func:`_disc_inflation`); it falls back to the full inflation when that cannot
+    be guaranteed."""
     from socialnav.world.grid import LETHAL
     from socialnav.world.inflation import inflate
     from socialnav.world.raster import rasterize
@@ -82,8 +92,16 @@ def add_obstacle_discs(
     d = np.asarray(discs, dtype=float).reshape(-1, 3)
     if d.shape[0] == 0:
         return costmap
-    occupied = (costmap.costs == LETHAL) | rasterize(costmap.geometry, discs=d)
+    raster = rasterize(costmap.geometry, discs=d)
+    occupied = (costmap.costs == LETHAL) | raster
     unknown = costmap.costs == UNKNOWN
+    if reuse_static:
+        fast = _disc_inflation(
+            costmap, d, raster, occupied, unknown, inscribed_radius, inflation_radius,
+            cost_scaling_factor,
+        )  # fmt: skip
+        if fast is not None:
+            return fast
     return inflate(
         occupied,
         costmap.geometry,
@@ -92,3 +110,109 @@ def add_obstacle_discs(
         cost_scaling_factor,
         unknown=unknown,
     )
+
+
+# Inflation of a static map's own LETHAL cells, kept per map (the costs array itself is held,
+# so an entry can only match the very array it was computed from).
+_STATIC_INFLATION: dict[
+    tuple[int, float, float, float], tuple[NDArray[np.uint8], NDArray[np.uint8]]
+] = {}
+
+
+@lru_cache(maxsize=16)
+def _cost_by_squared_offset(
+    resolution: float, r_ins: float, k: float, r_inf: float
+) -> NDArray[np.uint8] | None:
+    """The inflation cost ``(M,)`` of a cell whose nearest obstacle cell is ``n = dr² + dc²``
+    cells away (index ``n``; beyond the table: FREE), computed from the distance exactly as
+    :func:`socialnav.world.inflation.obstacle_distance` (SciPy's EDT) does for that offset:
+    ``sqrt((dr·res)² + (dc·res)²)``. ``None`` when two offsets with the same ``n`` give
+    different costs (rounding at a cost step), i.e. when the cost is not a function of ``n``.
+    """
+    from socialnav.world.inflation import _cost_unchecked
+
+    reach = int(np.ceil(r_inf / resolution)) + 2
+    ga, gb = np.meshgrid(np.arange(reach + 1), np.arange(reach + 1), indexing="ij")
+    a, b = ga.ravel(), gb.ravel()
+    dt = np.stack([a, b]).astype(np.float64) * resolution
+    np.multiply(dt, dt, dt)
+    dist = np.sqrt(np.add.reduce(dt, axis=0))
+    cost = _cost_unchecked(dist, r_ins, k, r_inf)
+    n = a * a + b * b
+    size = reach * reach + 1  # every n below this has all its offsets in the table
+    lo = np.full(size, 255, dtype=np.int64)
+    hi = np.full(size, -1, dtype=np.int64)
+    inside = n < size
+    np.minimum.at(lo, n[inside], cost[inside])
+    np.maximum.at(hi, n[inside], cost[inside])
+    present = hi >= 0
+    if np.any(lo[present] != hi[present]) or cost[n >= size].any():
+        return None  # ambiguous, or the table does not reach FREE
+    table = np.zeros(size, dtype=np.uint8)
+    table[present] = hi[present]
+    return table
+
+
+def _disc_inflation(
+    costmap: Costmap,
+    discs: NDArray[np.float64],
+    raster: NDArray[np.bool_],
+    occupied: NDArray[np.bool_],
+    unknown: NDArray[np.bool_],
+    r_ins: float,
+    r_inf: float,
+    k: float,
+) -> Costmap | None:
+    """``inflate(occupied, ...)`` from the kept inflation of the map's LETHAL cells: the cost
+    falls with the distance to the nearest obstacle, so the cost of the union is the maximum
+    of the map's and the discs' costs, and a disc changes only the cells within ``r_inf`` of
+    it. The discs' part is the cost of the squared cell offset ``n`` to the nearest disc cell
+    (a boundary cell: an interior one always has a nearer neighbour), exact when the cost is
+    a function of ``n`` (:func:`_cost_by_squared_offset`, else ``None``)."""
+    from socialnav.world.grid import INSCRIBED, LETHAL
+    from socialnav.world.inflation import _check_params, _cost_unchecked, obstacle_distance
+
+    _check_params(r_ins, r_inf, k)
+    geo = costmap.geometry
+    table = _cost_by_squared_offset(float(geo.resolution), float(r_ins), float(k), float(r_inf))
+    if table is None:
+        return None
+    key = (id(costmap.costs), float(r_ins), float(r_inf), float(k))
+    entry = _STATIC_INFLATION.get(key)
+    if entry is None or entry[1] is not costmap.costs:
+        lethal = costmap.costs == LETHAL
+        static = _cost_unchecked(obstacle_distance(lethal, geo.resolution), r_ins, k, r_inf)
+        if len(_STATIC_INFLATION) >= 4:
+            _STATIC_INFLATION.pop(next(iter(_STATIC_INFLATION)))
+        entry = (static, costmap.costs)
+        _STATIC_INFLATION[key] = entry
+    raw = entry[0].copy()
+    rows, cols = geo.shape
+    pad = np.pad(raster, 1, constant_values=False)
+    interior = pad[:-2, 1:-1] & pad[2:, 1:-1] & pad[1:-1, :-2] & pad[1:-1, 2:]
+    boundary = raster & ~interior
+    reach = int(np.sqrt(table.size - 1))  # cells: beyond it every offset costs FREE
+    res = geo.resolution
+    ox, oy = geo.origin
+    for x, y, r in discs:
+        # The cells the disc can occupy (as the rasterizer's window), then the affected ones.
+        c0 = max(int(np.floor((x - r - ox) / res - 0.5)), 0)
+        c1 = min(int(np.ceil((x + r - ox) / res - 0.5)) + 1, cols)
+        r0 = max(int(np.floor((y - r - oy) / res - 0.5)), 0)
+        r1 = min(int(np.ceil((y + r - oy) / res - 0.5)) + 1, rows)
+        if c0 >= c1 or r0 >= r1:
+            continue
+        src_r, src_c = np.nonzero(boundary[r0:r1, c0:c1])
+        if src_r.size == 0:
+            continue
+        src_r, src_c = src_r + r0, src_c + c0
+        w0, w1 = max(r0 - reach, 0), min(r1 + reach, rows)
+        v0, v1 = max(c0 - reach, 0), min(c1 + reach, cols)
+        dr = np.arange(w0, w1)[:, None, None] - src_r
+        dc = np.arange(v0, v1)[None, :, None] - src_c
+        n = (dr * dr + dc * dc).min(axis=-1)  # (H, W) squared offset to the nearest source
+        cost = table[np.minimum(n, table.size - 1)]
+        np.maximum(raw[w0:w1, v0:v1], cost, out=raw[w0:w1, v0:v1])
+    raw[raster] = LETHAL
+    costs = np.where(unknown & ~occupied & ~(raw >= INSCRIBED), np.uint8(UNKNOWN), raw)
+    return Costmap(costs.astype(np.uint8), geo)

@@ -26,6 +26,8 @@ Deviations from the C++ package, on purpose:
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
@@ -53,8 +55,66 @@ def proxemic_costs(
     ``velocities (K, 2)`` m/s. ``K = 0`` gives an all-zero layer.
 
     Work is vectorized over the cells of each person's own bounding window, clipped to the grid
-    (at most ``rows × cols`` cells per person, whatever their speed).
+    (at most ``rows × cols`` cells per person, whatever their speed). The NumPy reference of
+    :func:`socialnav.planner.kernels.proxemic_costs` (compiled, the same values).
     """
+    out = np.zeros(geometry.shape, dtype=np.uint8)
+    res = geometry.resolution
+    cols_n = geometry.shape[1]
+    ox, oy = geometry.origin
+    flat_out = out.reshape(-1)
+    for w in person_windows(
+        geometry, positions, velocities, amplitude, variance, cutoff, velocity_factor, passing
+    ):
+        rows = np.arange(w.r0, w.r1)[:, None]
+        cols = np.arange(w.c0, w.c1)[None, :]
+        dx = ox + (cols + 0.5) * res - w.x  # (1, W)
+        dy = oy + (rows + 0.5) * res - w.y  # (H, 1)
+        mx = dx * w.cos + dy * w.sin  # (H, W) along the (lobe) heading
+        my = dy * w.cos - dx * w.sin
+        sx2 = np.where(mx > 0.0, w.var_front, variance)
+        a = amplitude * np.exp(-(mx * mx / (2.0 * sx2) + my * my / (2.0 * variance)))
+        if w.one_sided:
+            a = np.where(mx < 0.0, 0.0, a)
+        keep = a >= cutoff
+        if not keep.any():
+            continue
+        flat = (rows * cols_n + cols)[keep]
+        # Cells are unique within one window: a plain fancy-index max suffices.
+        flat_out[flat] = np.maximum(flat_out[flat], np.floor(a[keep]).astype(np.uint8))
+    return out
+
+
+class PersonWindow(NamedTuple):
+    """One person's cell window ``[r0, r1) × [c0, c1)`` (clipped to the grid, non-empty), the
+    position ``x, y`` (m), the lobe heading's ``cos``/``sin``, the front variance (m²) and
+    whether the lobe is one-sided (passing layer, a moving person)."""
+
+    r0: int
+    r1: int
+    c0: int
+    c1: int
+    x: float
+    y: float
+    cos: float
+    sin: float
+    var_front: float
+    one_sided: bool
+
+
+def person_windows(
+    geometry: GridGeometry,
+    positions: ArrayLike,
+    velocities: ArrayLike,
+    amplitude: float = 77.0,
+    variance: float = 0.25,
+    cutoff: float = 10.0,
+    velocity_factor: float = 5.0,
+    passing: bool = False,
+) -> list[PersonWindow]:
+    """The validated per-person windows of :func:`proxemic_costs` (its arguments; raises
+    ``InvalidInputError`` on bad ones): every cell with ``a >= cutoff`` is inside its
+    person's window. People whose cost cannot reach the grid have none."""
     pos = as_points(positions, "positions").reshape(-1, 2)
     vel = as_points(velocities, "velocities").reshape(-1, 2)
     if pos.shape != vel.shape:
@@ -68,10 +128,8 @@ def proxemic_costs(
         raise InvalidInputError(f"amplitude must be <= {LETHAL} (a uint8 cost), got {amplitude}")
     if not (np.isfinite(velocity_factor) and velocity_factor >= 0):
         raise InvalidInputError(f"velocity_factor must be finite and >= 0, got {velocity_factor}")
-
-    out = np.zeros(geometry.shape, dtype=np.uint8)
     if pos.shape[0] == 0 or cutoff >= amplitude:
-        return out
+        return []
 
     speed = np.hypot(vel[:, 0], vel[:, 1])  # (K,)
     theta = np.arctan2(vel[:, 1], vel[:, 0])
@@ -85,7 +143,7 @@ def proxemic_costs(
     # Per-person windows clipped to the grid: the work is bounded by the grid, whatever a
     # person's speed (a tracker glitch at 10 m/s) or position.
     diagonal = float(np.hypot(rows_n, cols_n)) * res
-    flat_out = out.reshape(-1)
+    out: list[PersonWindow] = []
     for k in range(pos.shape[0]):
         reach = min(get_radius(cutoff, amplitude, float(var_front[k])), diagonal) + res
         c0 = max(int(np.floor(max((pos[k, 0] - reach - ox) / res, -1.0))), 0)
@@ -94,22 +152,18 @@ def proxemic_costs(
         r1 = min(int(np.ceil(min((pos[k, 1] + reach - oy) / res, rows_n + 1.0))) + 1, rows_n)
         if r0 >= r1 or c0 >= c1:
             continue  # the person's cost cannot reach the grid
-        rows = np.arange(r0, r1)[:, None]
-        cols = np.arange(c0, c1)[None, :]
-        dx = ox + (cols + 0.5) * res - pos[k, 0]  # (1, W)
-        dy = oy + (rows + 0.5) * res - pos[k, 1]  # (H, 1)
-        c, s = np.cos(theta[k]), np.sin(theta[k])
-        mx = dx * c + dy * s  # (H, W) along the (lobe) heading
-        my = dy * c - dx * s
-        sx2 = np.where(mx > 0.0, var_front[k], variance)
-        a = amplitude * np.exp(-(mx * mx / (2.0 * sx2) + my * my / (2.0 * variance)))
-        if passing and speed[k] > 0.0:
-            # One-sided lobe; stationary people keep the full Gaussian.
-            a = np.where(mx < 0.0, 0.0, a)
-        keep = a >= cutoff
-        if not keep.any():
-            continue
-        flat = (rows * cols_n + cols)[keep]
-        # Cells are unique within one window: a plain fancy-index max suffices.
-        flat_out[flat] = np.maximum(flat_out[flat], np.floor(a[keep]).astype(np.uint8))
+        out.append(
+            PersonWindow(
+                r0,
+                r1,
+                c0,
+                c1,
+                float(pos[k, 0]),
+                float(pos[k, 1]),
+                float(np.cos(theta[k])),
+                float(np.sin(theta[k])),
+                float(var_front[k]),
+                bool(passing and speed[k] > 0.0),
+            )
+        )
     return out

@@ -37,7 +37,11 @@ Decisions:
   ``global_frame`` or in ``odom_frame``, placed by the fixed ``odom_to_global`` transform.
   Messages in other frames are refused with a throttled error.
 - Groups, queues and artworks come from ``social_context_file`` (:mod:`.context`): structures
-  placed by their members' positions and attached to the tracked people every cycle.
+  placed by their members' positions and attached to the tracked people every cycle. Without
+  a file and with ``detect_social_context`` (the default), conversational groups, walking
+  groups and queues are estimated from the tracked people every cycle
+  (:class:`~socialnav.social.perception.ContextEstimator`, as ``--context detected`` in the
+  simulator); the planner then receives the estimator's context.
 - The planner is rebuilt (``build_navigator``) on a new goal, a new map, a parameter change, when
   the number of people in view changes between 0, 1, 2 and 3 or more, and when the groups,
   queues or viewed artworks in view change (the objective set is fixed when a navigator is
@@ -93,6 +97,7 @@ from socialnav.integrations.ros2.params import (
 from socialnav.integrations.ros2.people import PeopleTracker, TrackerParams
 from socialnav.planner.presets import build_navigator
 from socialnav.planner.rollout import rollout
+from socialnav.social.perception import ContextEstimator
 
 __all__ = ["SocialNavNode", "main"]
 
@@ -268,6 +273,9 @@ class SocialNavNode(LifecycleNode):  # type: ignore[misc]
             self.context_file = load_context_file(
                 self.values["social_context_file"], self.values["social_match_radius"]
             )
+        self.estimator: ContextEstimator | None = None
+        if self.context_file is None and self.values["detect_social_context"]:
+            self.estimator = ContextEstimator()
         self.tracker = PeopleTracker(
             TrackerParams(
                 gate=self.values["people_gate"],
@@ -427,9 +435,13 @@ class SocialNavNode(LifecycleNode):  # type: ignore[misc]
         pose, velocity, t, stamp = self._odom
         start = wall.perf_counter()
         people = self.tracker.people(time=t)
-        if self.context_file is None:
+        signature: tuple[int, ...]
+        if self.context_file is None and self.estimator is not None:
+            social = self.estimator.update(t, people).context
+            signature = (min(len(people), 3), len(social.groups), len(social.queues))
+        elif self.context_file is None:
             social = SocialContext(people)
-            signature: tuple[int, ...] = (min(len(people), 3),)
+            signature = (min(len(people), 3),)
         else:
             social = self.context_file.resolve(people)
             signature = (min(len(people), 3), *self.context_file.signature(social))

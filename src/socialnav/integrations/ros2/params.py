@@ -182,6 +182,11 @@ _NODE: tuple[ParamSpec, ...] = (
         0.05,
         5.0,
     ),
+    ParamSpec(
+        "detect_social_context",
+        True,
+        "without social_context_file: groups and queues from the context estimator",
+    ),
     ParamSpec("publish_candidates", True, "publish every candidate on socialnav/candidates"),
     ParamSpec("autostart", True, "configure and activate at start (retry activation every second)"),
 )

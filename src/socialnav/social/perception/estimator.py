@@ -13,7 +13,8 @@ removing that assumption as future work; this module removes it. Every control c
    not break up a group. Without smoothing, a 0.05 m position noise on three members of an
    arc makes their fitted circle, and so the join spot, jump by metres.
 2. **Detection**, in pipeline order, each detector seeing only people that earlier ones did not
-   claim: queues (:mod:`.queues`), artwork viewers (:mod:`.viewers`), F-formations
+   claim: queues at a desk of the map, artwork viewers (:mod:`.viewers`), queues without a
+   desk (:mod:`.queues`; a line of people facing an artwork is its viewers), F-formations
    (:mod:`.fformations`, GCFF), walking groups (:mod:`.walking`). Detectors are registry
    entries (:data:`~socialnav.social.perception.base.DETECTORS`), one module each.
 3. **Hysteresis** (:mod:`.tracking`): structures carry a confidence and switch on and off with
@@ -30,6 +31,7 @@ Positions in metres in the world frame, yaw CCW from +x; times in seconds.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -37,7 +39,6 @@ from typing import Any
 import numpy as np
 
 from socialnav.core.errors import ConfigurationError
-from socialnav.core.geometry import wrap_angle
 from socialnav.core.scene import Artwork, Group, Person, Queue, SocialContext
 from socialnav.social.perception import fformations, queues, viewers, walking  # noqa: F401
 from socialnav.social.perception.base import (
@@ -51,10 +52,21 @@ from socialnav.social.perception.base import (
 )
 from socialnav.social.perception.tracking import HysteresisParams, StructureTracker
 
-DEFAULT_PIPELINE: tuple[str, ...] = ("queue", "viewers", "fformation", "walking_group")
+DEFAULT_PIPELINE: tuple[str, ...] = (
+    "desk_queue",
+    "viewers",
+    "queue",
+    "fformation",
+    "walking_group",
+)
 #: Queue spacing handed to the planner is clipped to this range (m): the tail slot must stay a
 #: plausible place to stand even when the members' gaps are noisy.
 SPACING_RANGE = (0.5, 1.2)
+
+
+def _wrap(angle: float) -> float:
+    """:func:`~socialnav.core.geometry.wrap_angle` of one float (the same formula)."""
+    return (angle + math.pi) % (2.0 * math.pi) - math.pi
 
 
 @dataclass(frozen=True)
@@ -122,6 +134,10 @@ class ContextEstimator:
     def reset(self) -> None:
         """Forget every track and structure (a new episode)."""
         self.tracker.reset()
+        for _, detector in self.detectors:
+            reset = getattr(detector, "reset", None)  # detectors with state across cycles
+            if callable(reset):
+                reset()
         self._last_seen: dict[int, tuple[float, Person]] = {}
         self._standing: dict[int, int] = {}
 
@@ -131,13 +147,15 @@ class ContextEstimator:
         if last is None or a >= 1.0 or time <= last[0]:
             self._standing[p.id] = 0
             return p
+        # plain floats: one person's 2-vectors are far cheaper than NumPy calls here
         dt, q = time - last[0], last[1]
-        pred = np.asarray(q.position) + dt * np.asarray(q.velocity)
-        z = np.asarray(p.position, dtype=float)
-        if np.hypot(*(z - pred)) > self.params.gate:
+        px = q.position[0] + dt * q.velocity[0]
+        py = q.position[1] + dt * q.velocity[1]
+        zx, zy = float(p.position[0]), float(p.position[1])
+        if math.hypot(zx - px, zy - py) > self.params.gate:
             self._standing[p.id] = 0
             return p
-        standing = max(np.hypot(*p.velocity), np.hypot(*q.velocity)) < STANDING_SPEED
+        standing = max(math.hypot(*p.velocity), math.hypot(*q.velocity)) < STANDING_SPEED
         if standing:
             # a standing person: the running mean of their observations (the Kalman gain of a
             # static target, 1/n), floored at standing_smoothing so they can still move away
@@ -146,12 +164,17 @@ class ContextEstimator:
             a = max(1.0 / (n + 1), self.params.standing_smoothing)
         else:
             self._standing[p.id] = 0
-        x = pred + a * (z - pred)
-        v = np.asarray(q.velocity) + a * (np.asarray(p.velocity) - np.asarray(q.velocity))
-        turn = float(wrap_angle(p.yaw - q.yaw))
+        x = (px + a * (zx - px), py + a * (zy - py))
+        v = (
+            q.velocity[0] + a * (p.velocity[0] - q.velocity[0]),
+            q.velocity[1] + a * (p.velocity[1] - q.velocity[1]),
+        )
+        turn = _wrap(p.yaw - q.yaw)
         # a turn beyond 90° is taken as measured (averaging opposite headings never flips)
-        yaw = p.yaw if abs(turn) > np.pi / 2 else float(wrap_angle(q.yaw + a * turn))
-        return Person(p.id, (float(x[0]), float(x[1])), (float(v[0]), float(v[1])), yaw, p.radius)
+        yaw = p.yaw if abs(turn) > math.pi / 2 else _wrap(q.yaw + a * turn)
+        return Person(
+            p.id, (float(x[0]), float(x[1])), (float(v[0]), float(v[1])), float(yaw), p.radius
+        )
 
     def _tracks(self, time: float, people: Sequence[Person]) -> list[Person]:
         people = [self._smooth(time, p) for p in people]

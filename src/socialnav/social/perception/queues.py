@@ -24,6 +24,7 @@ accepted but scored lower, since two people one behind the other may just be sta
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -53,6 +54,7 @@ class QueueParams:
     service_bearing: float = np.radians(60.0)
     min_members_without_map: int = 2
     standing_speed: float = STANDING_SPEED
+    only_at_desk: bool = False
 
 
 def behind_edges(pos: FloatArray, yaw: FloatArray, p: QueueParams) -> list[tuple[float, int, int]]:
@@ -123,7 +125,15 @@ class QueueDetector(ParamDetector[QueueParams]):
         pos, yaw = frame.positions[idx], frame.yaws[idx]
         service = knowledge.service_points
         out: list[Candidate] = []
+        # who stands within reach of a desk: only they can be a queue of one
+        if service.shape[0]:
+            gap = pos[:, None, :] - service[None, :, :]
+            near = (np.hypot(gap[..., 0], gap[..., 1]) <= p.service_reach).any(axis=1)
+        else:
+            near = np.zeros(idx.size, dtype=bool)
         for chain in chains(idx.size, behind_edges(pos, yaw, p)):
+            if len(chain) < max(2, p.min_members_without_map) and not near[chain[0]]:
+                continue  # too short for a queue without a desk, and no desk in reach
             if len(chain) > 1 and heading_coherence(yaw[chain]) < p.min_heading_coherence:
                 continue  # headings that turn around a centre: a conversation, not a line
             head = pos[chain[0]]
@@ -137,7 +147,9 @@ class QueueDetector(ParamDetector[QueueParams]):
                 )
                 if dist[s] <= p.service_reach and facing <= p.service_bearing:
                     served = service[s]
-            if served is None and len(chain) < max(2, p.min_members_without_map):
+            if served is None and (
+                p.only_at_desk or len(chain) < max(2, p.min_members_without_map)
+            ):
                 continue
             if served is None:
                 heading = np.array([np.cos(yaw[chain[0]]), np.sin(yaw[chain[0]])])
@@ -162,4 +174,14 @@ class QueueDetector(ParamDetector[QueueParams]):
         return out
 
 
+class DeskQueueDetector(QueueDetector):
+    """Registered as ``desk_queue``: only queues whose head is served by a desk of the map.
+    It runs before the artwork viewers so that a desk's queue is a queue, while a line of
+    people without a desk facing an artwork is its viewers (the later ``queue`` entry)."""
+
+    def __init__(self, params: QueueParams | None = None, **overrides: Any) -> None:
+        super().__init__(params, **{"only_at_desk": True, **overrides})
+
+
 DETECTORS.add("queue", QueueDetector)
+DETECTORS.add("desk_queue", DeskQueueDetector)

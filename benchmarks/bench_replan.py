@@ -1,0 +1,106 @@
+"""Global replan in a crowd: the navigator's replan (people as obstacles on the global map, the
+personal-space layer, the search) against the implementation before, in the same run.
+
+Run: ``.venv/bin/python benchmarks/bench_replan.py [--quick]``.
+
+Setup (seeded, as ``bench_crowd_step.py``): the 27 m × 27 m room of the paper suite's
+group/queue scenes (540 × 540 cells at 0.05 m), the ``paccet`` navigator's global stack
+(``Navigator._compute_plan``: people as obstacle discs, ``personal_space_layer``, plan with
+navfn's tolerance), the PR2 at (3, 3) planning to (24, 24) and to (12, 8) (a near goal: the
+compiled search stops there); 50 people walking at 0.5–1.3 m/s, the fastest one at
+``fast`` m/s (1, 3, 5 and 10: the cost must not grow with it).
+
+Rows per scene: ``before`` = full re-inflation of the map, the NumPy personal-space layer and
+SciPy's Dijkstra (the implementation before: the baseline); ``exact`` = the kept static
+inflation and the compiled layer (the same costmap and the same plan, asserted) with SciPy's
+Dijkstra (the default); ``compiled search`` = the same with ``global_search="compiled"`` (A*:
+the same cost, asserted; among equal-cost paths it may pick another). CPU-time medians
+(``time.thread_time``) and wall medians, interleaved round by round.
+"""
+
+from __future__ import annotations
+
+import sys
+
+import numpy as np
+
+from bench_crowd_step import _context, _people
+from harness import format_seconds, time_interleaved
+from socialnav.core.robot import PR2
+from socialnav.core.scene import SocialContext
+from socialnav.planner import kernels
+from socialnav.planner.global_planner import plan_path
+from socialnav.planner.presets import build_navigator, personal_space_layer
+from socialnav.sim.scenario import load_scenario
+from socialnav.world.costmap import add_obstacle_discs
+
+SEED = 11
+GOALS = {
+    "far goal (24, 24)": np.array([24.0, 24.0, 0.0]),
+    "near goal (12, 8)": np.array([12.0, 8.0, 0.0]),
+}
+
+
+def main(quick: bool = False) -> None:
+    repeats = 5 if quick else 15
+    kernels.warmup()
+    costmap = load_scenario("group_join").static_costmap(PR2)
+    size = costmap.geometry.shape[1] * costmap.geometry.resolution
+    pose = np.array([3.0, 3.0, 0.0])
+    print(
+        "\n## Global replan, 50 people (0.5–1.3 m/s, the fastest at `fast`), 540 × 540 map "
+        f"(median of {repeats}, interleaved; kernel compile/cache load "
+        f"{kernels.compile_seconds:.2f} s at construction)\n"
+    )
+    print("| goal | fast (m/s) | variant | CPU (median) | wall (median) | speed-up (CPU) |")
+    print("|---|---|---|---|---|---|")
+    for goal_name, goal in GOALS.items():
+        for fast in (1.0, 3.0, 5.0, 10.0):
+            rng = np.random.default_rng(SEED)
+            pos, vel = _people(rng, 50, fast, size)
+            social = _context(pos, vel)
+            navs = {
+                search: build_navigator(
+                    "paccet", PR2, costmap, goal, SocialContext(), global_search=search
+                )
+                for search in ("scipy", "compiled")
+            }
+            tol = 0.5 * PR2.circumscribed_radius
+
+            def before(social: SocialContext = social, goal: np.ndarray = goal, tol: float = tol):
+                previous = kernels.set_enabled(False)
+                try:
+                    discs = np.column_stack([social.positions(), social.radii()])
+                    cm = add_obstacle_discs(costmap, discs, PR2.inscribed_radius)
+                    cm = personal_space_layer(cm, social)
+                    return plan_path(cm, pose[:2], goal[:2], tolerance=tol)
+                finally:
+                    kernels.set_enabled(previous)
+
+            def exact(social: SocialContext = social, goal: np.ndarray = goal, navs=navs):
+                return navs["scipy"]._compute_plan(pose, goal, social, True)
+
+            def compiled(social: SocialContext = social, goal: np.ndarray = goal, navs=navs):
+                return navs["compiled"]._compute_plan(pose, goal, social, True)
+
+            ref, same, fastest = before(), exact(), compiled()
+            assert ref.status == same.status == fastest.status == "OK"
+            assert np.array_equal(ref.path, same.path) and ref.cost == same.cost
+            assert abs(fastest.cost - ref.cost) <= 1e-9 * ref.cost
+            variants = {
+                "before: full inflation, NumPy layer, SciPy Dijkstra (baseline)": before,
+                "exact: kept inflation, compiled layer, SciPy Dijkstra (same plan)": exact,
+                "compiled search (A*, same cost)": compiled,
+            }
+            timed = time_interleaved(list(variants.values()), repeats, warmup=1)
+            base = timed[0][2]
+            for name, (w, _, c) in zip(variants, timed, strict=True):
+                ratio = "" if c == base else f"{base / c:.1f}x"
+                print(
+                    f"| {goal_name} | {fast:g} | {name} | {format_seconds(c)} | "
+                    f"{format_seconds(w)} | {ratio} |"
+                )
+
+
+if __name__ == "__main__":
+    main("--quick" in sys.argv)
