@@ -9,13 +9,15 @@ prints pass rate and median time to goal per family. Usage::
 Variants: ``paccet`` (as shipped); ``no_partner`` (interaction partners keep the 1.5 m ID
 threshold); ``loose_spot`` (the social goals' own 0.25 m / 0.25 rad arrival tolerance and the
 default 0.10 m xy goal tolerance); ``no_arrival`` (rollouts scored at their full-horizon end
-point, base_local_planner's rule: the slow final approach).
+point, base_local_planner's rule: the slow final approach); ``no_passing`` (ID without the
+walkers' passing distance past the rollout, ``PASSING_HORIZON``).
 """
 
 from __future__ import annotations
 
 import argparse
 import dataclasses
+import functools
 import multiprocessing as mp
 import statistics
 from collections import defaultdict
@@ -32,6 +34,10 @@ VARIANTS = {
     "loose_spot": dataclasses.replace(BASE, spot_tolerance=None, params=LocalPlannerParams()),
     "no_arrival": dataclasses.replace(
         BASE, params=dataclasses.replace(BASE.params, stop_at_goal=False)
+    ),
+    "no_passing": dataclasses.replace(
+        BASE,
+        objectives=functools.partial(recommended_objectives, partner_distance=True),
     ),
 }
 

@@ -58,7 +58,8 @@ def test_no_partners_when_not_steering_to_a_stopping_social_goal():
     wp = SocialGoal(goal.pose, "waypoint", is_waypoint=True)
     waypoint = dataclasses.replace(ctx, social_goal=wp)
     assert np.all(partner_thresholds(waypoint, 1.5, 0.05) == 1.5)
-    nobody = dataclasses.replace(ctx, social_goal=None)
+    # no social goal, a given goal far from everyone (a given goal near people: the test below)
+    nobody = dataclasses.replace(ctx, social_goal=None, goal=np.array([5.0, 5.0, 0.0]))
     assert np.all(partner_thresholds(nobody, 1.5, 0.05) == 1.5)
 
 
@@ -88,14 +89,38 @@ def test_stop_at_goal_holds_each_rollout_at_its_first_pose_inside_the_tolerance(
     assert same is trajs
 
 
-def test_paccet_preset_tightens_the_spot_tolerance_and_leaves_stop_at_goal_off():
+def test_paccet_preset_stops_rollouts_at_the_goal_inside_the_suites_tolerance():
     from socialnav.planner.presets import PRESETS
 
     preset = PRESETS.get("paccet")
-    assert not preset.params.stop_at_goal  # an option: it collides in navground's Cross
+    assert preset.params.stop_at_goal
+    assert preset.params.xy_goal_tolerance < 0.10  # the generated suite's arrival tolerance
     assert preset.spot_tolerance is not None and preset.spot_tolerance[0] < 0.10
-    assert not PRESETS.get("traditional").params.stop_at_goal
+    assert not PRESETS.get("traditional").params.stop_at_goal  # the ROS baseline stays ROS
     assert PR2.name == "pr2"
+
+
+def test_passing_distance_stops_rewarding_standing_still_for_an_oncoming_walker():
+    """Table 1 hallway: the walker will pass 1.4 m to the side whether the robot stands or
+    drives on; the rollout-only ID scored standing still better (the closest approach falls
+    after its horizon) and the PR2 stopped ~4 s. With the passing distance both cost alike,
+    and standing in the walker's lane costs what the encounter will."""
+    walker = SocialContext((Person(1, (2.0, 1.4), velocity=(-0.5, 0.0)),))
+    ctx = make_ctx(social=walker)
+    trajs = straight([(0.0, 0.0), (0.8, 0.0), (0.8, 1.4)], duration=1.7, steps=18)
+    plain = InterpersonalCritic(evaluation="max_over_time").score(trajs, ctx).cost
+    passing = InterpersonalCritic(evaluation="max_over_time", hold_horizon=3.0)
+    cost = passing.score(trajs, ctx).cost
+    assert plain[0] < plain[1]  # the artefact: standing still looks better
+    assert cost[0] == pytest.approx(cost[1])  # both pass at 1.4 m
+    assert cost[0] == pytest.approx(np.exp(1 / 1.4))
+    assert cost[2] > 10 * cost[0]  # ends in the walker's lane
+    static = SocialContext((Person(1, (2.0, 1.4)),))
+    ctx_static = make_ctx(social=static)
+    np.testing.assert_array_equal(  # nobody walking: no change
+        passing.score(trajs, ctx_static).cost,
+        InterpersonalCritic(evaluation="max_over_time").score(trajs, ctx_static).cost,
+    )
 
 
 def test_arrival_time_prefers_the_rollout_that_arrives_first():
@@ -124,3 +149,122 @@ def test_rollouts_do_not_stop_at_a_waypoint_they_pass_through():
     assert not _passing_waypoint(after)
     spot = SocialGoal(np.array([1.0, 2.0, 0.0]), "queue_tail")
     assert not _passing_waypoint(dataclasses.replace(ctx, social_goal=spot))
+
+
+def test_bug_robot_at_the_spot_makes_room_to_turn_instead_of_staying_latched():
+    """Generated queue, PR2 (dev seeds 4 and 5): at the tail slot, 0.67 m behind the last
+    member, the PR2's corners (0.46 m out) would sweep into them on the in-place turn to the
+    goal yaw; the latched goal check then reported NO_LEGAL_TRAJECTORY until the time limit.
+    Here a wall 0.38 m ahead blocks the turn: the robot backs off, turns, and drives back."""
+    from socialnav.planner.context import PlanningContext
+    from socialnav.planner.local_planner import PlannerStatus, traditional_planner
+    from socialnav.world.grid import LETHAL, Costmap, GridGeometry
+
+    geometry = GridGeometry((60, 60), 0.05, (-1.5, -1.5))
+    costs = np.zeros((60, 60), np.uint8)
+    costs[28:32, 38:40] = LETHAL  # x in [0.40, 0.50), y in [-0.10, 0.10)
+    costmap = Costmap(costs, geometry)
+    planner = traditional_planner(PR2)
+    pose, velocity = np.zeros(3), np.zeros(3)
+    goal = np.array([0.0, 0.0, np.pi / 2])
+    statuses = []
+    for k in range(150):
+        ctx = PlanningContext(pose, velocity, goal, np.zeros((1, 2)), costmap, PR2, time=0.1 * k)
+        result = planner.plan(ctx)
+        statuses.append(result.status)
+        if result.status == PlannerStatus.GOAL_REACHED:
+            break
+        c, s = np.cos(pose[2]), np.sin(pose[2])
+        cmd = result.cmd
+        pose = pose + 0.1 * np.array([c * cmd[0] - s * cmd[1], s * cmd[0] + c * cmd[1], cmd[2]])
+        velocity = cmd
+    assert statuses[0] == PlannerStatus.ROTATING_TO_GOAL  # making room, not stuck
+    assert statuses[-1] == PlannerStatus.GOAL_REACHED
+    assert np.hypot(*pose[:2]) <= planner.params.xy_goal_tolerance
+    assert abs(pose[2] - np.pi / 2) <= planner.params.yaw_goal_tolerance
+
+
+@pytest.mark.parametrize("dx", np.linspace(0.0, 0.045, 10))
+def test_bug_footprint_grazing_a_person_is_a_collision_at_any_sub_cell_offset(dx):
+    """A PR2 corner ending 1 cm inside a person's disc is illegal wherever the disc sits in
+    its cell: people were rasterized by cell centres only, and a PR2 turning beside a queue
+    member it stood behind grazed them by 4 cm (generated queue, dev seed 5)."""
+    from socialnav.core.scene import SocialContext
+    from socialnav.planner.context import PlanningContext
+    from socialnav.planner.critics.occupancy import OccupancyCritic
+    from socialnav.planner.navigator import Navigator
+    from socialnav.world.grid import Costmap, GridGeometry
+
+    costmap = Costmap(np.zeros((80, 80), np.uint8), GridGeometry((80, 80), 0.05, (-2.0, -2.0)))
+    corner = PR2.circumscribed_radius  # the corner at yaw pi/4 lies on +x
+    person = Person(1, (corner + 0.25 - 0.01 + dx, 0.0), radius=0.25)
+    social = SocialContext((person,))
+    navigator = Navigator.__new__(Navigator)  # only the people layer is exercised
+    navigator.people_as_obstacles, navigator.robot = True, PR2
+    local = navigator._with_people(costmap, social)
+    poses = np.array([[[-0.1, 0.0, np.pi / 4], [0.0, 0.0, np.pi / 4]]])
+    trajs = Trajectories(np.zeros((1, 3)), poses, np.array([0.0, 0.1]))
+    ctx = PlanningContext(
+        np.array([-0.1, 0.0, np.pi / 4]), np.zeros(3), np.zeros(3), np.zeros((1, 2)), local, PR2
+    )
+    score = OccupancyCritic().score(trajs, ctx)
+    assert not np.isfinite(score.cost[0]) or score.illegal["collision"][0]
+
+
+@pytest.mark.slow
+def test_bug_pr2_at_a_queue_tail_turns_to_face_the_line_without_touching_it():
+    """Generated queue, dev seed 5, PR2: the slot is 0.67 m behind the last member, closer
+    than the PR2's corners (0.46 m) plus the person (0.25 m). It stayed latched with the turn
+    illegal (its check ran past the goal yaw), then grazed the member while turning."""
+    from socialnav.metrics.success import success_conditions
+    from socialnav.sim.generate import generate
+    from socialnav.sim.runner import run_episode
+
+    record = run_episode(generate("queue", 5), "paccet", "pr2", seed=5).record
+    failed = [c.name for c in success_conditions(record) if c.required and not c.passed]
+    assert failed == []
+
+
+@pytest.mark.parametrize("robot_name", ["pr2", "pioneer"])
+def test_bug_presenter_spot_keeps_the_whole_footprint_outside_the_activity_space(robot_name):
+    """Generated gallery_present, PR2 (dev seeds 5, 9, 14, 15): the spot kept 0.35 m from
+    the activity space, less than a PR2's corners reach (0.46 m), and turning to face the
+    viewer there put a corner 2–4 cm inside. The spot now keeps the robot's circumscribed
+    radius (+5 cm) from it, so no yaw at the spot intrudes."""
+    from socialnav.core.robot import PIONEER
+    from socialnav.core.scene import Artwork
+    from socialnav.planner.presets import StickySocialGoal, presenter_clearance
+    from socialnav.social.spaces import activity_space_polygon, segment_polygon_distance
+
+    robot = PR2 if robot_name == "pr2" else PIONEER
+    viewer = Person(1, (2.326, 2.053), yaw=np.pi)
+    art = Artwork((0.0, 2.112), 0.858, 0.0, viewer_ids=(1,))
+    social = SocialContext((viewer,), artworks=(art,))
+    given = np.array([0.93, 2.09, 0.0])  # 0.4 of the way from the art to the viewer
+    spot = StickySocialGoal(art_clearance=presenter_clearance(robot))(
+        social, given, np.array([8.7, 1.5, np.pi])
+    )
+    assert spot is not None
+    poly = activity_space_polygon(np.array(art.center), art.width, art.facing, viewer.position)
+    xy = np.asarray(spot.pose[:2])
+    assert segment_polygon_distance(xy, xy, poly) >= robot.circumscribed_radius
+
+
+def test_bug_given_goal_beside_a_standing_person_is_not_forbidden_by_id():
+    """CrowdNav circle crossing, Pioneer (dev seeds 6, 8, 9): people end standing on the
+    circle, one 1.0 m from the robot's goal; ID (1.5 m) rose with every step toward the goal
+    and the robot crawled the last metre until the time limit. A person nearer the given goal
+    than the threshold keeps the goal's own distance from them (less the margin)."""
+    person = SocialContext((Person(1, (1.0, 0.0)),))
+    ctx = dataclasses.replace(make_ctx(social=person), goal=np.zeros(3))
+    own = partner_thresholds(ctx, 1.5, 0.05)
+    assert own[0] == pytest.approx(0.95)
+    critic = InterpersonalCritic(evaluation="max_over_time", partner_distance=True)
+    at_goal = straight([(0.0, 0.0)], start=(-1.0, 0.0))
+    assert critic.score(at_goal, ctx).cost[0] == 0.0
+    plain = InterpersonalCritic(evaluation="max_over_time").score(at_goal, ctx).cost[0]
+    assert plain > 1.0
+    closer = straight([(0.3, 0.0)], start=(-1.0, 0.0))  # past the goal, toward them: costs
+    assert critic.score(closer, ctx).cost[0] > 0.0
+    far = dataclasses.replace(ctx, goal=np.array([-3.0, 0.0, 0.0]))
+    assert partner_thresholds(far, 1.5, 0.05)[0] == 1.5  # a far goal changes nothing

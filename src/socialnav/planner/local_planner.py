@@ -9,6 +9,11 @@ Decisions and deviations:
 - Goal handling follows ROS ``LatchedStopRotateController``: inside ``xy_goal_tolerance`` (latched)
   brake at the acceleration limits, then rotate in place to the goal yaw, then ``GOAL_REACHED``.
   The social goal's own tolerances replace the parameters when ``ctx.social_goal`` is the goal.
+- Room to turn (an addition to ROS, which stays latched with the rotation illegal forever): when
+  the in-place rotation to the goal yaw is illegal (a PR2 corner would sweep into the queue
+  member it stands behind), the robot translates slowly (``MAKE_ROOM_SPEED``) in the direction,
+  among its own (8 for a holonomic base, forward/back otherwise), from whose end the rotation is
+  legal, staying inside the latch radius; once turned it drives back into the xy tolerance.
 - Oscillation suppression (ROS ``OscillationCostFunction``) is planner state, not a critic: after a
   velocity axis changes sign, the opposite sign is illegal until the robot moved
   ``oscillation_reset_dist`` or turned ``oscillation_reset_angle``. If that leaves nothing legal
@@ -26,7 +31,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from enum import StrEnum
 from typing import Protocol
 
@@ -49,6 +54,10 @@ from socialnav.planner.objectives import Evaluation, Objective, evaluate
 from socialnav.planner.record import EvaluationRecord
 from socialnav.planner.rollout import rollout, validate_rollout
 from socialnav.planner.sampling import sample_twists, validate_sampling
+
+#: m/s: the translation that makes room for an in-place rotation at the goal (module docstring)
+MAKE_ROOM_SPEED = 0.1
+MAKE_ROOM_STEPS = (0.5, 1.0, 1.5, 2.0)  # s of that translation tried, shortest first (5–20 cm)
 
 
 class PlannerStatus(StrEnum):
@@ -324,6 +333,8 @@ class LocalPlanner:
         self._latched = False
         self._latch_radius = 0.0
         self._rotating = False
+        self._made_room = False
+        self._room: FloatArray | None = None
         self._goal: FloatArray | None = None
         self._oscillation.reset()
         for obj in self.objectives:
@@ -379,6 +390,8 @@ class LocalPlanner:
             self._goal = np.array(goal, dtype=float)
             self._latched = False
             self._rotating = False
+            self._made_room = False
+            self._room = None
             self._oscillation.reset()
 
     def _stopping_distance(self, ctx: PlanningContext) -> float:
@@ -403,6 +416,12 @@ class LocalPlanner:
         p, r = self.params, self.robot
         err = float(wrap_angle(ctx.goal[2] - ctx.pose[2]))
         if abs(err) <= yaw_tol:
+            xy_tol = self._tolerances(ctx)[0]
+            if self._made_room and np.hypot(*(ctx.goal[:2] - ctx.pose[:2])) > xy_tol:
+                # Turned after making room: drive back into the tolerance, now facing right.
+                self._latched = self._rotating = self._made_room = False
+                status, cmd, msg, _ = self._sample_and_select(ctx, cycle)
+                return status, cmd, msg
             return PlannerStatus.GOAL_REACHED, _zero(), ""
         v = np.asarray(ctx.velocity, dtype=float)
         moving = np.hypot(v[0], v[1]) > p.trans_stopped_vel or abs(v[2]) > p.theta_stopped_vel
@@ -420,16 +439,68 @@ class LocalPlanner:
         twists = cmd[None]
         if ctx.cache.reach is None:
             ctx.cache.reach = 2.0 * ctx.costmap.resolution
-        trajs = rollout(ctx.pose, ctx.velocity, twists, r, p)
+        # Checked up to the goal yaw only (ROS checks sim_time): the turn stops there, and
+        # what lies beyond it (a person beside the spot) must not forbid the last few degrees.
+        turn = replace(
+            p, sim_time=max(min(p.sim_time, abs(err) / max(w, 1e-6)), p.controller_period)
+        )
+        trajs = rollout(ctx.pose, ctx.velocity, twists, r, turn)
         try:
             ev = evaluate(self.objectives, trajs, ctx)
         except CriticUnavailable as exc:
             return PlannerStatus.CRITIC_UNAVAILABLE, _zero(), str(exc)
         cycle.twists, cycle.trajs, cycle.evaluation = twists, trajs, ev
         if not ev.legal[0]:
+            room = self._make_room(ctx, err)
+            if room is not None:
+                self._made_room = True
+                return PlannerStatus.ROTATING_TO_GOAL, room, "making room to turn"
             why = "in-place rotation to goal is illegal"
             return PlannerStatus.NO_LEGAL_TRAJECTORY, _zero(), why
+        self._room = None
         return PlannerStatus.ROTATING_TO_GOAL, cmd, ""
+
+    def _make_room(self, ctx: PlanningContext, err: float) -> FloatArray | None:
+        """A slow translation ``(3,)`` (body frame) after which the whole in-place turn by
+        ``err`` rad is legal: the shortest such move (``MAKE_ROOM_STEPS`` s), then the one
+        ending nearest the goal; kept while it stays legal. None when there is none."""
+        r, p = self.robot, self.params
+        first = replace(p, sim_time=MAKE_ROOM_STEPS[0])
+        try:
+            if self._room is not None:
+                trajs = rollout(ctx.pose, ctx.velocity, self._room[None], r, first)
+                if evaluate(self.objectives, trajs, ctx).legal[0]:
+                    return self._room.copy()
+            if r.holonomic:
+                ang = np.arange(8) * (np.pi / 4)
+                vx = np.clip(MAKE_ROOM_SPEED * np.cos(ang), r.min_vel_x, r.max_vel_x)
+                vy = np.clip(MAKE_ROOM_SPEED * np.sin(ang), -r.max_vel_y, r.max_vel_y)
+            else:
+                vx = np.clip(
+                    np.array([MAKE_ROOM_SPEED, -MAKE_ROOM_SPEED]), r.min_vel_x, r.max_vel_x
+                )
+                vy = np.zeros(2)
+            twists = np.column_stack([vx, vy, np.zeros_like(vx)])
+            twists = twists[np.hypot(twists[:, 0], twists[:, 1]) > 1e-9]
+            w = np.copysign(min(r.max_vel_theta, max(r.min_in_place_vel_theta, abs(err))), err)
+            whole = replace(p, sim_time=max(abs(err) / abs(w), p.controller_period))
+            for duration in MAKE_ROOM_STEPS:
+                trajs = rollout(ctx.pose, ctx.velocity, twists, r, replace(p, sim_time=duration))
+                ends = trajs.end_poses.astype(float)
+                ok = evaluate(self.objectives, trajs, ctx).legal.copy()
+                for j in np.flatnonzero(ok):
+                    spin = rollout(ends[j], np.zeros(3), np.array([[0.0, 0.0, w]]), r, whole)
+                    ok[j] = bool(evaluate(self.objectives, spin, ctx).legal[0])
+                if ok.any():
+                    reach = np.hypot(ends[:, 0] - ctx.goal[0], ends[:, 1] - ctx.goal[1])
+                    k = int(np.argmin(np.where(ok, reach, np.inf)))
+                    # Stay latched while making room: the robot turns there, then drives back.
+                    self._latch_radius = max(self._latch_radius, float(reach[k]) + 1e-3)
+                    self._room = twists[k].copy()
+                    return self._room.copy()
+        except CriticUnavailable:
+            return None
+        return None
 
     def _sample_and_select(
         self, ctx: PlanningContext, cycle: _Cycle

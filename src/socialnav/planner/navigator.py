@@ -368,7 +368,11 @@ class Navigator:
         (``static``: ``costmap`` is the fixed map, whose own inflation is kept across calls)."""
         if not (self.people_as_obstacles and social.people):
             return costmap
-        discs = np.column_stack([social.positions(), social.radii()])
+        # Grown by half a cell diagonal: a cell is marked when its centre is inside the disc, so
+        # a footprint point up to that far inside the true disc could land on an unmarked cell
+        # (a PR2 corner grazed a queue member it turned beside by 4 cm).
+        grown = social.radii() + costmap.resolution * np.sqrt(2.0) / 2.0
+        discs = np.column_stack([social.positions(), grown])
         return add_obstacle_discs(costmap, discs, self.robot.inscribed_radius, reuse_static=static)
 
     def _on_map(self, social: SocialContext) -> SocialContext:

@@ -71,11 +71,15 @@ def resolve_social_goal(
     activity_margin: float = 0.3,
     waypoint_clearance: float = 1.6,
     free_fn: FreeFn | None = None,
+    art_clearance: float = 0.35,
 ) -> SocialGoal | None:
     """The applicable social goal for ``given_goal (3,)`` seen from ``robot_pose (3,)``, or None.
 
     See the module docstring for the rules and distances (m). ``free_fn`` (points ``(M, 2)`` →
-    free ``(M,)``) is passed to the goal functions so spots inside walls are avoided.
+    free ``(M,)``) is passed to the goal functions so spots inside walls are avoided;
+    ``art_clearance`` (m) is the presenter spot's clearance from the activity space
+    (:func:`~socialnav.social.goals.presenter_pose`; a robot's circumscribed radius keeps its
+    footprint outside at any yaw).
     :func:`resolve_social_goal_detailed` also says which structures were rejected and why.
     """
     return resolve_social_goal_detailed(
@@ -88,6 +92,7 @@ def resolve_social_goal(
         activity_margin=activity_margin,
         waypoint_clearance=waypoint_clearance,
         free_fn=free_fn,
+        art_clearance=art_clearance,
     ).goal
 
 
@@ -102,6 +107,7 @@ def resolve_social_goal_detailed(
     activity_margin: float = 0.3,
     waypoint_clearance: float = 1.6,
     free_fn: FreeFn | None = None,
+    art_clearance: float = 0.35,
 ) -> Resolution:
     """:func:`resolve_social_goal` with the structures it rejected, each with a reason."""
     rejected: list[tuple[str, str]] = []
@@ -167,6 +173,7 @@ def resolve_social_goal_detailed(
                     v,
                     viewer.yaw,
                     robot_position=robot,
+                    art_clearance=art_clearance,
                     free_fn=free_fn,
                 )
                 found.append((anchor, 2, spot))

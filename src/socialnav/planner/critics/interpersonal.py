@@ -24,7 +24,18 @@ Deviations and choices:
   from them less ``partner_margin`` (the formation's member spacing, the queue spacing, the
   presenter's distance), and their distance is scaled by ``threshold / own threshold`` so the
   cost has the paper's shape relative to the interaction's distance. Without it the objective
-  forbids what the social goal asks for (the robot stalls ~1.5 m from its partners).
+  forbids what the social goal asks for (the robot stalls ~1.5 m from its partners). With no
+  social goal, the same rule holds for anyone nearer the given goal than ``threshold``: the
+  goal's own distance from them, less the margin (a goal beside a standing stranger is
+  reachable without a crawl against ID).
+- Passing distance (``hold_horizon`` s, 0 = off; ``max_over_time`` only): after the rollout the
+  robot is assumed to stand at the trajectory's end point while people walk on at constant
+  velocity for ``hold_horizon`` s, and the distance is the minimum over the rollout and that
+  continuation. A walker who will pass the end point at 1.4 m then costs the same whether the
+  robot got there now or stands still: without it, standing still scores better against an
+  oncoming walker only because the closest approach falls outside the rollout horizon, and the
+  robot stops until the walker has passed (the "yielding" time). Standing in a walker's way
+  costs what the encounter will cost (the end point is where a robot can always stop).
 - Collisions: a trajectory whose footprint disc (``footprint_disc`` radius: the inscribed circle
   by default — the occupancy critic handles corners against walls; choose ``circumscribed`` to be
   conservative) overlaps a person's disc at any rollout time (people forecast by
@@ -126,13 +137,39 @@ def min_squared_distances(
     return d2min
 
 
+def passing_distances(trajs: Trajectories, ctx: PlanningContext, horizon: float) -> FloatArray:
+    """``(N, K)`` closest distance (m, centres) between each trajectory's end point, where the
+    robot is assumed to stop, and each person walking on at constant velocity from their
+    forecast position at the rollout's end for ``horizon`` s (module docstring)."""
+    end = trajs.xy[:, -1]  # (N, 2)
+    t_end = np.asarray(trajs.t[-1:], dtype=float)
+    start = ctx.people_at(t_end)[0]  # (K, 2)
+    step = ctx.social.velocities() * horizon  # (K, 2): the walk after the rollout
+    w = end[:, None, :] - start[None]  # (N, K, 2)
+    uu = (step * step).sum(axis=1)  # (K,)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        s = np.where(uu > 0, (w * step[None]).sum(axis=-1) / uu, 0.0)
+    s = np.clip(s, 0.0, 1.0)
+    gap = w - s[..., None] * step[None]
+    return np.sqrt((gap * gap).sum(axis=-1))
+
+
 def partner_thresholds(ctx: PlanningContext, threshold: float, margin: float) -> FloatArray:
     """Per person ``(K,)``: ``threshold`` (m), or for an interaction partner of the stopping
     social goal the spot's own distance to them less ``margin`` (see the module docstring)."""
     social = ctx.social
     out = np.full(len(social.people), float(threshold))
     sg = ctx.social_goal
-    if sg is None or getattr(sg, "is_waypoint", False) or not social.people:
+    if not social.people:
+        return out
+    if sg is None:
+        # A given goal inside someone's personal space: they keep the goal's own distance
+        # from them (less the margin), so the last metres are not a crawl against ID.
+        gaps = np.linalg.norm(social.positions() - np.asarray(ctx.goal, dtype=float)[:2], axis=1)
+        near = gaps < threshold
+        out[near] = np.maximum(gaps[near] - margin, 1e-3)
+        return out
+    if getattr(sg, "is_waypoint", False):
         return out
     spot = np.asarray(sg.pose, dtype=float)[:2]
     if not np.allclose(np.asarray(sg.pose, dtype=float), ctx.goal):
@@ -175,10 +212,13 @@ class InterpersonalCritic(Critic):
     partner_margin: float = 0.05
     approach_check: bool = True
     approach_speed: float = 0.02
+    hold_horizon: float = 0.0
 
     def __post_init__(self) -> None:
         if not self.threshold > 0 or not self.min_distance > 0:
             raise ConfigurationError("interpersonal: threshold and min_distance must be > 0")
+        if not (np.isfinite(self.hold_horizon) and self.hold_horizon >= 0):
+            raise ConfigurationError("interpersonal: hold_horizon must be finite and >= 0")
         if self.distance not in ("center", "edge"):
             raise ConfigurationError(
                 f"interpersonal: distance must be center|edge, got {self.distance!r}"
@@ -224,6 +264,8 @@ class InterpersonalCritic(Critic):
             # f is non-increasing in d, so max over time of f(d) = f(min over time of d)
             assert d2min is not None
             d = np.sqrt(d2min)
+            if self.hold_horizon > 0 and ctx.predict_people:
+                d = np.minimum(d, passing_distances(trajs, ctx, self.hold_horizon))
         if self.distance == "edge":
             d = np.maximum(d - radii - robot_r, 0.0)
         if self.partner_distance:
