@@ -23,7 +23,7 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from harness import Case, Row, format_seconds, print_rows, time_case, time_interleaved
+from harness import Case, Row, format_seconds, print_rows, quick_option, time_case, time_interleaved
 from socialnav.core.robot import PR2
 from socialnav.moo.selection import WeightedSum
 from socialnav.planner import kernels
@@ -317,4 +317,4 @@ def main(quick: bool = False) -> None:
 
 
 if __name__ == "__main__":
-    main("--quick" in sys.argv)
+    main(quick_option(__doc__))

@@ -20,12 +20,10 @@ the same cost, asserted; among equal-cost paths it may pick another). CPU-time m
 
 from __future__ import annotations
 
-import sys
-
 import numpy as np
 
 from bench_crowd_step import _context, _people
-from harness import format_seconds, time_interleaved
+from harness import format_seconds, quick_option, time_interleaved
 from socialnav.core.robot import PR2
 from socialnav.core.scene import SocialContext
 from socialnav.planner import kernels
@@ -103,4 +101,4 @@ def main(quick: bool = False) -> None:
 
 
 if __name__ == "__main__":
-    main("--quick" in sys.argv)
+    main(quick_option(__doc__))

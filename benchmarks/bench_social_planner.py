@@ -30,7 +30,6 @@ planners of a row group; ``cycle (min)`` is printed too because medians drift on
 from __future__ import annotations
 
 import statistics
-import sys
 import tracemalloc
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -38,7 +37,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from bench_planner import fresh_grids
-from harness import format_seconds, time_interleaved
+from harness import format_seconds, quick_option, time_interleaved
 from socialnav.core.robot import PR2
 from socialnav.core.scene import Group, Person, SocialContext
 from socialnav.moo.selection import WeightedSum
@@ -499,4 +498,4 @@ def main(quick: bool = False) -> None:
 
 
 if __name__ == "__main__":
-    main("--quick" in sys.argv)
+    main(quick_option(__doc__))

@@ -7,6 +7,7 @@ in the same run, on the same machine, so ratios stay meaningful when absolute ti
 
 from __future__ import annotations
 
+import argparse
 import statistics
 import time
 from collections.abc import Callable, Sequence
@@ -119,3 +120,12 @@ def time_interleaved(
     return [
         (statistics.median(w), min(w), statistics.median(c)) for w, c in zip(wall, cpu, strict=True)
     ]
+
+
+def quick_option(doc: str | None) -> bool:
+    """Parse ``[--quick]`` (fewer repeats) with ``--help`` printing the script's docstring."""
+    parser = argparse.ArgumentParser(
+        description=doc, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
+    parser.add_argument("--quick", action="store_true", help="fewer repeats (a rough table)")
+    return bool(parser.parse_args().quick)

@@ -105,7 +105,7 @@ def test_shared_hotel_slice(hotel_slice: Path) -> None:
 @pytest.mark.parametrize(
     ("text", "match"),
     [
-        ("1 1 0 0 0 0 0 0\n2 1 0 0 0 0 0\n", "line 2: column 8"),
+        ("1 1 0 0 0 0 0 0\n2 1 0 0 0 0 0\n", "line 2: 7 columns; expected 8"),
         ("1 1 0 0 0 0 0 0\n\n3 1 x 0 0 0 0 0\n", "line 3: column 3 \\(x\\)"),
         ("1 1 0 0 0 0 0 0\n2 1 0 0 nan 0 0 0\n", "line 2: column 5 \\(y\\)"),
         ("1 1 0 0 0 0 0 0\n1 1 1 0 0 0 0 0\n", "line 2: person 1 appears twice in frame 1"),

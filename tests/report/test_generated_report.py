@@ -62,3 +62,9 @@ def test_detected_runs_get_the_side_by_side_section_and_stay_out_of_the_rest(tmp
     assert "| paccet | 4/4 → 3/4 | 4/4 → 3/4 | 0.50 |" in report
     # the pass-rate table counts the given runs only
     assert "4/4 (100%)" in report and "3/4 (75%)" not in report
+    # The header counts both kinds; the failures section says it holds the given runs only
+    # (before: "4 runs" for 8, and "paccet failed no run" beside a detected failure).
+    assert "4 runs with the context given (and 4 with it detected" in report
+    assert "paccet failed no run with the context given." in report
+    # no baseline ran: said in words, not an empty table
+    assert "No baseline ran beside paccet" in report

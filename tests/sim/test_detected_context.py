@@ -69,3 +69,47 @@ def test_detect_command_writes_structures_and_a_picture(tmp_path: Path):
 def test_detect_command_names_a_bad_source(tmp_path: Path):
     res = CliRunner().invoke(app, ["detect", str(tmp_path), "--out", str(tmp_path / "o")])
     assert res.exit_code == 2 and "not an episode folder" in res.output
+
+
+def _four_column(path: Path) -> Path:
+    """Frames every 10 (0.4 s): ids 1 and 2 walk side by side 0.7 m apart at 1 m/s for 30
+    frames; id 3 appears at frame 100 and leaves at 200 (absent before and after)."""
+    lines = []
+    for k in range(30):
+        frame, x = 10 * k, 0.4 * k
+        lines += [f"{frame} 1 {x:.2f} 0.0", f"{frame} 2 {x:.2f} 0.7"]
+        if 10 <= k <= 20:
+            lines.append(f"{frame} 3 {8.0 - 0.2 * k:.2f} 4.0")
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+def test_detect_reads_a_crowd_recording_whose_people_come_and_go(tmp_path: Path):
+    """Before: a recording was read as a scenario YAML ("expected a mapping, got str"), and
+    an episode whose people are absent for part of it (NaN) crashed drawing false positives
+    in NaN bounds."""
+    src = _four_column(tmp_path / "walk.txt")
+    out = tmp_path / "det"
+    res = CliRunner().invoke(app, ["detect", str(src), "--out", str(out)])
+    assert res.exit_code == 0, res.output
+    assert json.loads(res.output)["frames"] == 30
+    table = pq.read_table(out / "structures.parquet").to_pylist()
+    walking = [r for r in table if r["kind"] == "walking_group"]
+    assert walking and all(sorted(r["members"])[:2] == [1, 2] for r in walking)
+    assert (out / "context.png").stat().st_size > 0
+
+
+def test_detect_names_a_malformed_recording(tmp_path: Path):
+    bad = tmp_path / "bad.txt"
+    bad.write_text("0 1 0.0 0.0\n10 1 0.4\n")
+    res = CliRunner().invoke(app, ["detect", str(bad), "--out", str(tmp_path / "o")])
+    assert res.exit_code != 0
+    assert "bad.txt: line 2: 3 columns; expected 4 (frame id x y)" in res.output
+    assert "Traceback" not in res.output
+
+
+def test_perception_bounds_must_be_finite():
+    from socialnav.sim.perception import PerceptionModel
+
+    with pytest.raises(ValueError, match="finite"):
+        PerceptionModel(bounds=(0.0, float("nan"), 1.0, 1.0))

@@ -64,6 +64,9 @@ def _read_table(path: Path, columns: Sequence[str], sep: str) -> pd.DataFrame:
             skip_blank_lines=False,
             engine="python",
             comment="#",
+            # Only an empty field is missing: a literal "nan" is a value (and not finite).
+            keep_default_na=False,
+            na_values=[""],
         )
     except pd.errors.ParserError as exc:
         raise RecordingFormatError(f"{path}: {exc}") from exc
@@ -97,6 +100,11 @@ def _read_table(path: Path, columns: Sequence[str], sep: str) -> pd.DataFrame:
         col = int(
             np.flatnonzero(numeric[bad].iloc[0].isna() | ~np.isfinite(numeric[bad].iloc[0]))[0]
         )
+        if pd.isna(row.iloc[col]):  # a short row (a file cut mid-line), not a bad number
+            raise RecordingFormatError(
+                f"{path}: line {line}: {int(row.notna().sum())} columns; expected {n} "
+                f"({' '.join(columns)})"
+            )
         raise RecordingFormatError(
             f"{path}: line {line}: column {col + 1} ({columns[col]}) is not a finite number: "
             f"{row.iloc[col]!r}"

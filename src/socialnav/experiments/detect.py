@@ -1,8 +1,10 @@
 """``socialnav detect FILE``: the social-context estimator over a recording or a scenario.
 
 FILE is an episode folder written by ``socialnav run`` / ``compare`` (``episode.json`` and the
-step table) or a scenario (a built-in name or a YAML file; it is simulated with the
-``traditional`` planner, people as the scenario scripts them). Every sample's people pass
+step table), a crowd recording (ETH/UCY obsmat, four-column ``frame id x y`` or Trajnet++
+``.ndjson``, read by :func:`socialnav.crowds.load_recording` and taken at its own frames), or a
+scenario (a built-in name or a YAML file; it is simulated with the ``traditional`` planner,
+people as the scenario scripts them). Every sample's people pass
 through the perception model (``noise``: ``default`` = DEFAULT_PERCEPTION, ``none`` = exact
 tracks), then the estimator, with the map knowledge of the record (artworks, queue service
 points). Writes ``structures.parquet`` (one row per frame and structure: ``t`` (s), ``kind``,
@@ -24,6 +26,7 @@ import pyarrow.parquet as pq
 from socialnav.core.episode import EpisodeRecord
 from socialnav.core.errors import ConfigurationError
 from socialnav.core.scene import Artwork
+from socialnav.crowds import Recording
 from socialnav.social.perception import ContextEstimator, Estimate, EstimatorParams, MapKnowledge
 from socialnav.social.perception.base import STANDING_SPEED
 
@@ -46,12 +49,65 @@ def _record_of(source: str) -> EpisodeRecord:
     return run_planner_episode(EpisodeSpec(source, "traditional", "pr2")).record
 
 
+RECORDING_SUFFIXES = (".txt", ".csv", ".ndjson", ".json", ".jsonl")
+
+
+def _recording_of(source: str) -> Recording | None:
+    """The crowd recording at ``source``, or ``None`` when it is no recording (a folder, a
+    scenario name or YAML). A malformed recording raises naming the file and line."""
+    from socialnav.crowds import RecordingFormatError, load_recording
+
+    path = Path(source)
+    if not (path.is_file() and path.suffix.lower() in RECORDING_SUFFIXES):
+        return None
+    try:
+        return load_recording(path)
+    except (RecordingFormatError, ValueError) as exc:
+        raise ConfigurationError(str(exc)) from None
+
+
+def detect_recording(
+    recording: Recording, noise: str = "default", seed: int = 0
+) -> tuple[list[Estimate], pa.Table]:
+    """Estimates at every frame of ``recording`` (its own frame period) and the structures
+    table (module docstring); no map knowledge (an open space has no desk or artwork)."""
+    from socialnav.core.scene import HUMAN_RADIUS
+
+    if noise not in ("default", "none"):
+        raise ConfigurationError(f"unknown noise {noise!r}; use default or none")
+    period = recording.frame_period * _frame_step(recording)
+    n = int(np.floor((recording.end_time - recording.start_time) / period + 1e-9)) + 1
+    times = np.asarray(recording.start_time + period * np.arange(n), dtype=np.float64)
+    state = recording.states(times)
+    p = state.ids.shape[0]
+    return _detect_frames(
+        MapKnowledge(),
+        "join",
+        times,
+        state.ids,
+        state.positions,
+        state.velocities,
+        state.headings,
+        np.zeros(p),
+        np.full(p, HUMAN_RADIUS),
+        noise,
+        seed,
+    )
+
+
+def _frame_step(recording: Recording) -> int:
+    """Frame numbers between annotations (ETH/UCY annotate every 10th video frame)."""
+    steps = [np.diff(tr.times) for tr in recording.tracks if len(tr.times) > 1]
+    if not steps:
+        return 1
+    smallest = float(np.min(np.concatenate(steps)))
+    return max(1, round(smallest / recording.frame_period))
+
+
 def detect_record(
     record: EpisodeRecord, noise: str = "default", seed: int = 0
 ) -> tuple[list[Estimate], pa.Table]:
     """Estimates per sample of ``record`` and the structures table (module docstring)."""
-    from socialnav.sim.perception import DEFAULT_PERCEPTION, EXACT_PERCEPTION, PerceptionModel
-
     if noise not in ("default", "none"):
         raise ConfigurationError(f"unknown noise {noise!r}; use default or none")
     ctx = record.context
@@ -60,8 +116,44 @@ def detect_record(
         service_points=np.array([q.service_point for q in ctx.queues], dtype=float),
     )
     mode = "lead" if any(g.mode == "lead" for g in ctx.groups) else "join"
+    initial = {p.id: p.yaw for p in ctx.people}
+    yaw0 = np.array([initial.get(int(i), 0.0) for i in record.people_ids], dtype=float)
+    return _detect_frames(
+        knowledge,
+        mode,
+        record.times,
+        record.people_ids,
+        record.people_positions,
+        record.people_velocities,
+        None,
+        yaw0,
+        record.people_radii,
+        noise,
+        seed,
+    )
+
+
+def _detect_frames(
+    knowledge: MapKnowledge,
+    mode: str,
+    times: np.ndarray,
+    ids: np.ndarray,
+    positions: np.ndarray,
+    velocities: np.ndarray,
+    headings: np.ndarray | None,
+    yaw0: np.ndarray,
+    radii: np.ndarray,
+    noise: str,
+    seed: int,
+) -> tuple[list[Estimate], pa.Table]:
+    """The estimator over frames ``times (T,)`` of people ``ids (P,)``: ``positions`` and
+    ``velocities (T, P, 2)`` (NaN where absent), ``headings (T, P)`` or ``None`` (a moving
+    person faces their velocity, a standing one keeps the last heading, from ``yaw0 (P,)``)."""
+    from socialnav.sim.perception import DEFAULT_PERCEPTION, EXACT_PERCEPTION, PerceptionModel
+
     estimator = ContextEstimator(knowledge, EstimatorParams(group_mode=mode))
-    pts = record.people_positions.reshape(-1, 2)
+    pts = positions.reshape(-1, 2)
+    pts = pts[np.all(np.isfinite(pts), axis=1)]  # absent people are NaN
     bounds = (
         (
             float(pts[:, 0].min()),
@@ -75,23 +167,26 @@ def detect_record(
     model = PerceptionModel(
         DEFAULT_PERCEPTION if noise == "default" else EXACT_PERCEPTION, bounds, seed
     )
-    initial = {p.id: p.yaw for p in ctx.people}
-    yaw = np.array([initial.get(int(i), 0.0) for i in record.people_ids], dtype=float)
+    yaw = np.asarray(yaw0, dtype=float)
     estimates: list[Estimate] = []
     rows: dict[str, list[Any]] = {
         k: [] for k in ("t", "kind", "track_id", "members", "confidence", "center_x", "center_y")
     }
-    for k, t in enumerate(record.times):
-        pos, vel = record.people_positions[k], record.people_velocities[k]
-        moving = np.hypot(vel[:, 0], vel[:, 1]) >= STANDING_SPEED
-        yaw = np.where(moving, np.arctan2(vel[:, 1], vel[:, 0]), yaw)
+    for k, t in enumerate(times):
+        pos, vel = positions[k], velocities[k]
         present = np.all(np.isfinite(pos), axis=1)
+        if headings is not None:
+            yaw = np.where(np.isfinite(headings[k]), headings[k], yaw)
+        else:
+            with np.errstate(invalid="ignore"):
+                moving = np.hypot(vel[:, 0], vel[:, 1]) >= STANDING_SPEED
+            yaw = np.where(moving, np.arctan2(vel[:, 1], vel[:, 0]), yaw)
         tracks = model.observe(
-            record.people_ids[present],
+            ids[present],
             pos[present],
             vel[present],
             yaw[present],
-            record.people_radii[present],
+            radii[present],
         )
         est = estimator.update(float(t), tracks)
         estimates.append(est)
@@ -126,13 +221,19 @@ def detect_file(source: str, out: Path, noise: str = "default", seed: int = 0) -
     from socialnav.viz.context import plot_context
     from socialnav.viz.topdown import save_figure
 
-    record = _record_of(source)
-    estimates, table = detect_record(record, noise, seed)
+    recording = _recording_of(source)
+    if recording is not None:
+        estimates, table = detect_recording(recording, noise, seed)
+        from socialnav.crowds.space import area_walls
+
+        walls, title = area_walls(recording.area), recording.name
+    else:
+        record = _record_of(source)
+        estimates, table = detect_record(record, noise, seed)
+        walls, title = record.walls, record.scenario
     out.mkdir(parents=True, exist_ok=True)
     pq.write_table(table, out / STRUCTURES_FILE)
-    save_figure(
-        plot_context(estimates, walls=record.walls, title=record.scenario), out / "context.png"
-    )
+    save_figure(plot_context(estimates, walls=walls, title=title), out / "context.png")
     kinds = table.column("kind").to_pylist()
     return {
         "source": source,

@@ -94,6 +94,9 @@ def efficiency_section(doc: Document, rows: Sequence[dict[str, Any]], planners: 
     if OURS not in planners:
         return
     doc.add(Heading(f"Time to goal: {OURS} against every baseline (scenes both pass)"))
+    if all(p == OURS for p in planners):
+        doc.add(Paragraph(f"No baseline ran beside {OURS} (add some with `--planners`)."))
+        return
     index = {(r["scenario"], r["robot"], r["seed"], r["planner"]): r for r in rows}
     body = []
     for other in planners:
@@ -185,14 +188,20 @@ def _badness(row: dict[str, Any]) -> tuple[int, float]:
 
 
 def worst_failures_section(
-    doc: Document, rows: Sequence[dict[str, Any]], out_dir: Path, planner: str = OURS
+    doc: Document,
+    rows: Sequence[dict[str, Any]],
+    out_dir: Path,
+    planner: str = OURS,
+    given_only: bool = False,
 ) -> None:
     """The worst failed runs of ``planner`` (collisions first), each with its picture, failed
-    conditions and the command that reruns it."""
+    conditions and the command that reruns it (``given_only``: the rows are the runs with the
+    context given, the detected ones being compared in their own section)."""
     failed = [r for r in rows if r["planner"] == planner and r.get("success") != 1.0]
-    doc.add(Heading(f"Worst failures of {planner}"))
+    which = " with the context given" if given_only else ""
+    doc.add(Heading(f"Worst failures of {planner}{which}"))
     if not failed:
-        doc.add(Paragraph(f"{planner} failed no run."))
+        doc.add(Paragraph(f"{planner} failed no run{which}."))
         return
     failed.sort(key=_badness)
     fig_dir = out_dir / "figures"
@@ -233,7 +242,8 @@ def build_generated_report(rows: Sequence[dict[str, Any]], out_dir: Path) -> Pat
     With runs of both contexts, every section but "Social context" reports the given runs."""
     all_rows = list(rows)
     all_ok = [r for r in rows if not r.get("error")]
-    if any(r.get("context", "given") != "given" for r in rows):
+    detected = sum(r.get("context", "given") != "given" for r in rows)
+    if detected:
         rows = [r for r in rows if r.get("context", "given") == "given"] or list(rows)
     ok = [r for r in rows if not r.get("error")]
     planners = _planner_order(ok) if ok else []
@@ -248,7 +258,13 @@ def build_generated_report(rows: Sequence[dict[str, Any]], out_dir: Path) -> Pat
     doc = Document("socialnav: generated suite")
     doc.add(
         Paragraph(
-            f"{len(rows)} runs, seeds {seeds[0] if seeds else '–'}–{seeds[-1] if seeds else '–'} "
+            f"{len(rows)} runs"
+            + (
+                f" with the context given (and {detected} with it detected, compared at the end)"
+                if detected
+                else ""
+            )
+            + f", seeds {seeds[0] if seeds else '–'}–{seeds[-1] if seeds else '–'} "
             f"({split}); planners {', '.join(planners)}. Arrival tolerance 0.10 m (and 0.2 rad at "
             "social spots). Reproduce with `socialnav compare --suite generated --seeds A:B`."
         )
@@ -256,7 +272,7 @@ def build_generated_report(rows: Sequence[dict[str, Any]], out_dir: Path) -> Pat
     pass_rate_section(doc, ok, planners)
     efficiency_section(doc, ok, planners)
     crowdnav_section(doc, ok, planners)
-    worst_failures_section(doc, ok, out_dir)
+    worst_failures_section(doc, ok, out_dir, given_only=bool(detected))
     if any(r.get("context", "given") == "detected" for r in all_ok):
         context_section(doc, [{**r, "family": family_of(r)} for r in all_ok], planners)
     errors = [r for r in all_rows if r.get("error")]

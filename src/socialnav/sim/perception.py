@@ -72,8 +72,13 @@ class PerceptionModel:
         bounds: tuple[float, float, float, float] = (0.0, 0.0, 10.0, 10.0),
         seed: int = 0,
     ) -> None:
+        x0, y0, x1, y1 = (float(v) for v in bounds)
+        # False positives are drawn uniformly in the bounds: NaN or infinite ones (a record's
+        # absent people) would fail inside NumPy's sampler, mid-episode.
+        if not all(np.isfinite(v) for v in (x0, y0, x1, y1)) or x1 < x0 or y1 < y0:
+            raise ValueError(f"perception bounds must be finite with min ≤ max, got {bounds}")
         self.noise = noise
-        self.bounds = bounds
+        self.bounds = (x0, y0, x1, y1)
         self.seed = seed
         self.reset()
 
