@@ -73,8 +73,6 @@ def detect_recording(
     table (module docstring); no map knowledge (an open space has no desk or artwork)."""
     from socialnav.core.scene import HUMAN_RADIUS
 
-    if noise not in ("default", "none"):
-        raise ConfigurationError(f"unknown noise {noise!r}; use default or none")
     period = recording.frame_period * _frame_step(recording)
     n = int(np.floor((recording.end_time - recording.start_time) / period + 1e-9)) + 1
     times = np.asarray(recording.start_time + period * np.arange(n), dtype=np.float64)
@@ -108,8 +106,6 @@ def detect_record(
     record: EpisodeRecord, noise: str = "default", seed: int = 0
 ) -> tuple[list[Estimate], pa.Table]:
     """Estimates per sample of ``record`` and the structures table (module docstring)."""
-    if noise not in ("default", "none"):
-        raise ConfigurationError(f"unknown noise {noise!r}; use default or none")
     ctx = record.context
     knowledge = MapKnowledge(
         artworks=tuple(Artwork(a.center, a.width, a.facing) for a in ctx.artworks),
@@ -151,6 +147,8 @@ def _detect_frames(
     person faces their velocity, a standing one keeps the last heading, from ``yaw0 (P,)``)."""
     from socialnav.sim.perception import DEFAULT_PERCEPTION, EXACT_PERCEPTION, PerceptionModel
 
+    if noise not in ("default", "none"):
+        raise ConfigurationError(f"unknown noise {noise!r}; use default or none")
     estimator = ContextEstimator(knowledge, EstimatorParams(group_mode=mode))
     pts = positions.reshape(-1, 2)
     pts = pts[np.all(np.isfinite(pts), axis=1)]  # absent people are NaN
