@@ -113,3 +113,10 @@ def test_perception_bounds_must_be_finite():
 
     with pytest.raises(ValueError, match="finite"):
         PerceptionModel(bounds=(0.0, float("nan"), 1.0, 1.0))
+
+
+def test_detect_refuses_an_unknown_noise_option(tmp_path: Path):
+    src = _four_column(tmp_path / "walk.txt")
+    res = CliRunner().invoke(app, ["detect", str(src), "--noise", "loud", "--out", str(tmp_path)])
+    assert res.exit_code != 0
+    assert "unknown noise 'loud'; use default or none" in res.output
