@@ -397,7 +397,11 @@ def report(
 @app.command()
 def detect(
     source: Annotated[
-        str, typer.Argument(help="Episode folder (from run/compare), built-in scenario or YAML.")
+        str,
+        typer.Argument(
+            help="Crowd recording (obsmat, frame-id-x-y text, Trajnet++ ndjson), episode folder "
+            "(from run/compare), built-in scenario or YAML."
+        ),
     ],
     out: Annotated[Path, typer.Option(help="Output folder.")] = Path("detect"),
     noise: Annotated[str, typer.Option(help="Perception noise: default or none.")] = "default",
