@@ -120,3 +120,24 @@ def test_detect_refuses_an_unknown_noise_option(tmp_path: Path):
     res = CliRunner().invoke(app, ["detect", str(src), "--noise", "loud", "--out", str(tmp_path)])
     assert res.exit_code != 0
     assert "unknown noise 'loud'; use default or none" in res.output
+
+
+def test_a_detected_episode_is_measured_at_the_spot_of_the_controllers_own_rule():
+    # generated gallery_present dev seed 1 with a PR2: the presenter spot keeps the PR2's
+    # clearance (0.51 m) from the activity space; measured at the default 0.35 m clearance, a
+    # perfect detected run missed the spot by 0.28 m while the given run passed
+    from socialnav.core.robot import ROBOT_MODELS
+    from socialnav.planner.presets import presenter_clearance
+    from socialnav.sim.generate import generate
+    from socialnav.sim.stack import StackController
+
+    pr2 = ROBOT_MODELS["pr2"]
+    scn = generate("gallery_present", 1).model_copy(update={"time_limit": 0.3})
+    result = run_episode(scn, StackController("paccet"), pr2, seed=1, context="detected")
+    rec = result.record
+    truth = scn.social_context()  # the viewers stand still
+    final = rec.robot_poses[-1]
+    own = resolve_target(scn, truth, final, art_clearance=presenter_clearance(pr2)).pose
+    default = resolve_target(scn, truth, final).pose
+    assert np.linalg.norm(own[:2] - default[:2]) > 0.1  # the two rules differ here
+    np.testing.assert_allclose(rec.target, own, atol=1e-4)

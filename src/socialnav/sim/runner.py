@@ -253,7 +253,15 @@ def run_episode(
     extra: dict[str, Any] = {"context": context}
     if detector is not None:
         # the true context's social goal, seen from where the robot ended
-        truth = resolve_target(scn, context_at(social0, pos, vel, yaw), robot_pose=pose)
+        # resolved with the controller's own rule options (e.g. its robot's presenter
+        # clearance): what is measured is perception, not a different rule
+        options = getattr(ctrl, "social_goal_options", None)
+        truth = resolve_target(
+            scn,
+            context_at(social0, pos, vel, yaw),
+            robot_pose=pose,
+            **(options() if callable(options) else {}),
+        )
         measured = truth.pose if target.waypoint is None else target.pose
         source = "true context"
         extra["estimator_ms_median"] = float(np.median(detector.seconds) * 1e3)

@@ -19,7 +19,7 @@ from socialnav.core.geometry import FloatArray
 from socialnav.core.robot import RobotModel
 from socialnav.core.scene import SocialContext
 from socialnav.planner.local_planner import LocalPlannerParams, PlannerResult, PlannerStatus
-from socialnav.planner.presets import PRESETS, build_navigator
+from socialnav.planner.presets import PRESETS, build_navigator, presenter_clearance
 from socialnav.planner.recovery import RecoveryParams
 from socialnav.sim.controller import CONTROLLERS, register_controller
 
@@ -69,6 +69,17 @@ class StackController:
             "replan_delay": int(replan_delay),
         }
         self.navigator: Navigator | None = None
+        self._robot: RobotModel | None = None
+
+    def social_goal_options(self) -> dict[str, Any]:
+        """Keyword options of :func:`~socialnav.social.resolve.resolve_social_goal` that this
+        stack's social-goal rule uses for the robot of the last :meth:`reset`: the presenter
+        spot's ``art_clearance`` (:func:`~socialnav.planner.presets.presenter_clearance`).
+        A context-detected episode measures success at the spot this rule gives on the *true*
+        context, so the robot is judged on what it perceived, not on a rule it never used."""
+        if self._robot is None or not self.preset_spec.social_goal:
+            return {}
+        return {"art_clearance": presenter_clearance(self._robot)}
 
     def reset(
         self, scenario: Scenario, robot: RobotModel, social: SocialContext | None = None
@@ -77,6 +88,7 @@ class StackController:
         start (default: the scenario's own, i.e. the context given)."""
         if self.navigator is not None:
             self.navigator.close()  # a replan still in flight belongs to the last episode
+        self._robot = robot
         self.navigator = build_navigator(
             self.preset,
             robot,

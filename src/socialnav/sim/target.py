@@ -29,10 +29,15 @@ class Target:
 
 
 def resolve_target(
-    scenario: Scenario, social: SocialContext, robot_pose: FloatArray | None = None
+    scenario: Scenario,
+    social: SocialContext,
+    robot_pose: FloatArray | None = None,
+    **options: Any,
 ) -> Target:
     """The social goal when one resolves (``socialnav.social.resolve``), else the given goal,
-    seen from ``robot_pose (3,)`` (default: the scenario's start).
+    seen from ``robot_pose (3,)`` (default: the scenario's start). ``options`` are keyword
+    options of :func:`~socialnav.social.resolve.resolve_social_goal_detailed` (e.g. the
+    ``art_clearance`` a controller's own rule uses; default: the rule's defaults).
 
     A social goal of kind ``waypoint`` (gallery activity) keeps the given goal as the target and
     becomes the waypoint to pass. Structures that were not targets (walking groups, groups that
@@ -40,7 +45,7 @@ def resolve_target(
     """
     goal = np.asarray(scenario.goal, dtype=float)
     start = np.asarray(scenario.start if robot_pose is None else robot_pose, dtype=float)
-    resolution = resolve_social_goal_detailed(social, goal, start)
+    resolution = resolve_social_goal_detailed(social, goal, start, **options)
     sg = resolution.goal
     rejected = "; ".join(f"{what}: {why}" for what, why in resolution.rejected) or None
     if sg is None:
