@@ -217,6 +217,26 @@ def test_a_missed_member_is_coasted_for_a_short_while():
     assert 2 not in {p.id for p in later.context.people}
 
 
+def test_a_standing_persons_estimate_does_not_drift_with_their_velocity_noise():
+    # exact positions, a measured velocity of 3 cm/s (noise, under the standing speed): the
+    # running mean stays put; predicting with the velocity drifted it by 5.7 cm, which moved
+    # a queue's tail slot out of the generated suite's 0.10 m tolerance
+    est = ContextEstimator()
+    for k in range(300):
+        out = est.update(0.1 * k, [Person(1, (2.0, 1.0), (0.03, 0.0), 0.0)])
+    np.testing.assert_allclose(out.context.people[0].position, (2.0, 1.0), atol=1e-9)
+
+
+def test_a_standing_persons_estimate_is_the_mean_of_noisy_observations():
+    rng = np.random.default_rng(3)
+    est, errors = ContextEstimator(), []
+    for k in range(300):
+        z, v = rng.normal(0.0, 0.05, 2), rng.normal(0.0, 0.05, 2)
+        out = est.update(0.1 * k, [Person(1, tuple(z), tuple(v), 0.0)])
+        errors.append(np.hypot(*out.context.people[0].position))
+    assert max(errors[30:]) < 0.03  # σ 0.05 m per observation
+
+
 def test_estimate_is_a_valid_social_context_and_tracks_are_unique():
     people = circle_group((0, 0), 0.6, 3)
     assert isinstance(estimate_once(people).context, SocialContext)

@@ -158,7 +158,10 @@ class ContextEstimator:
         standing = max(math.hypot(*p.velocity), math.hypot(*q.velocity)) < STANDING_SPEED
         if standing:
             # a standing person: the running mean of their observations (the Kalman gain of a
-            # static target, 1/n), floored at standing_smoothing so they can still move away
+            # static target, 1/n), floored at standing_smoothing so they can still move away.
+            # Predicted where they stood: integrating the (noise-only) velocity estimate would
+            # drift the mean by (1 - a) / a · dt · v, 4-5 cm at the floor gain.
+            px, py = float(q.position[0]), float(q.position[1])
             n = self._standing.get(p.id, 0) + 1
             self._standing[p.id] = n
             a = max(1.0 / (n + 1), self.params.standing_smoothing)
