@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from hypothesis import given
+from hypothesis import assume, given
 from hypothesis import strategies as st
 
 from socialnav.core.scene import Artwork, Group, Person, SocialContext
@@ -174,6 +174,42 @@ def test_people_facing_an_artwork_are_its_viewers():
     far = Person(2, (0.0, -1.0), yaw=np.pi / 2)
     est = estimate_once([viewer, passer, far], MapKnowledge(artworks=(art,)))
     assert est.context.artworks[0].viewer_ids == (0,)
+
+
+def test_a_viewer_looking_at_the_far_part_of_a_wide_artwork_is_a_viewer():
+    # the generated gallery_present scene of dev seed 10: a viewer 1.1 m in front of the lower
+    # end of the artwork, looking at its centre: 38.5° from the nearest point of the artwork,
+    # so 10° heading noise hid them for seconds
+    art = Artwork(center=(13.589, 5.039), width=1.196, facing=np.pi)
+    viewer = Person(3, (12.467, 5.574), yaw=-0.672)
+    knowledge = MapKnowledge(artworks=(art,))
+    for off in np.radians([-10.0, 0.0, 10.0]):
+        turned = Person(3, viewer.position, yaw=float(viewer.yaw + off))
+        assert estimate_once([turned], knowledge).context.artworks[0].viewer_ids == (3,)
+    # looking along the wall, past the artwork's end by more than the limit: not a viewer
+    away = Person(3, viewer.position, yaw=-np.pi / 2)
+    assert estimate_once([away], knowledge).context.artworks[0].viewer_ids == ()
+
+
+@given(
+    st.floats(-1.5, 1.5), st.floats(0.4, 3.0), st.floats(-np.pi, np.pi), st.floats(0.2, 2.0)
+)
+def test_subtended_gaze_is_zero_exactly_when_the_heading_ray_hits_the_artwork(lat, depth, yaw, w):
+    from socialnav.social.perception.viewers import subtended_gaze
+
+    pos = np.array([[lat, depth]])
+    a, b = np.array([-w / 2, 0.0]), np.array([w / 2, 0.0])
+    gaze = float(subtended_gaze(pos, np.array([yaw]), a, b)[0])
+    d = np.array([np.cos(yaw), np.sin(yaw)])
+    # where the heading ray crosses the artwork's line (inf when it points away)
+    cross = lat + d[0] * depth / -d[1] if d[1] < -1e-9 else np.inf
+    assume(abs(abs(cross) - w / 2) > 1e-6)  # not grazing an end
+    hits = abs(cross) < w / 2
+    assert (gaze == 0.0) == hits
+    if not hits:
+        ends = [np.arctan2(e[1] - depth, e[0] - lat) for e in (a, b)]
+        expected = min(abs((x - yaw + np.pi) % (2 * np.pi) - np.pi) for x in ends)
+        assert gaze == pytest.approx(expected)
 
 
 def test_two_people_one_behind_the_other_before_an_artwork_are_viewers_not_a_queue():

@@ -4,7 +4,8 @@ Method: the artwork's geometry comes from the map (:class:`~socialnav.core.scene
 centre, width, facing); a person is a viewer when they stand in front of it (depth along its
 normal ``min_depth``–``max_depth`` m), within the artwork's lateral extent widened by
 ``lateral_margin``, and their heading points at the artwork: the angle between the heading and
-the direction to the nearest point of the artwork is below ``max_gaze_angle``. The distances
+the artwork (0 when the heading ray hits it, else the angle to its nearer end;
+:func:`subtended_gaze`) is below ``max_gaze_angle``. The distances
 bracket the project's gallery scenarios (viewers 1–2.5 m from the wall, the generated range)
 with a margin; the angular limit admits a 15° heading noise at about 2.5 σ. They are this
 module's choices, not a paper's.
@@ -41,6 +42,25 @@ class ViewerParams:
     standing_speed: float = STANDING_SPEED
 
 
+def subtended_gaze(
+    positions: np.ndarray, yaws: np.ndarray, end_a: np.ndarray, end_b: np.ndarray
+) -> np.ndarray:
+    """Angle (rad, ``(K,)``) between each heading ``yaws (K,)`` at ``positions (K, 2)`` and
+    the segment ``end_a``–``end_b (2,)``: 0 when the heading ray hits the segment, else the
+    angle to the nearer end. A viewer looks at some point of the artwork, not necessarily the
+    nearest one: with the nearest point, a viewer 1 m in front of one end of a 1.2 m artwork
+    looking at its centre was 31° off, and heading noise pushed them past the limit."""
+    rel = []
+    for end in (end_a, end_b):
+        d = np.asarray(end, dtype=float) - positions
+        rel.append(wrap_angle(np.arctan2(d[:, 1], d[:, 0]) - yaws))
+    ra, rb = rel
+    # the segment subtends less than π from a point in front of it: the heading is inside
+    # when the two ends lie on opposite sides of it, less than π apart
+    inside = (np.sign(ra) != np.sign(rb)) & (np.abs(ra) + np.abs(rb) < np.pi)
+    return np.where(inside, 0.0, np.minimum(np.abs(ra), np.abs(rb)))
+
+
 class ViewerDetector(ParamDetector[ViewerParams]):
     """Registered as ``viewers``: one candidate per artwork with at least one viewer."""
 
@@ -64,7 +84,7 @@ class ViewerDetector(ParamDetector[ViewerParams]):
             along = np.clip(lateral, -0.5 * art.width, 0.5 * art.width)
             nearest = c + along[:, None] * t
             look = nearest - pos
-            gaze = np.abs(wrap_angle(np.arctan2(look[:, 1], look[:, 0]) - yaw))
+            gaze = subtended_gaze(pos, yaw, c - 0.5 * art.width * t, c + 0.5 * art.width * t)
             ok = (
                 (depth >= p.min_depth)
                 & (depth <= p.max_depth)
