@@ -33,6 +33,7 @@ gallery, 5 in the queue.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
@@ -298,7 +299,11 @@ class StickySocialGoal:
 
     ``resolve_social_goal`` is stateless and depends on the robot's pose (e.g. which side of
     the artwork to present from); re-resolving every cycle would let the goal flip as the robot
-    moves. It is recomputed when any person moved more than ``moved`` metres.
+    moves. It is recomputed when any person moved more than ``moved`` metres, or the
+    structures changed (members of a group or queue, viewers of an artwork). People are matched
+    by id: with a detected context the tracks' order changes (a missed person is coasted
+    last) and false positives come and go; neither is a reason to move the goal, as long as
+    they belong to no structure.
     """
 
     def __init__(
@@ -310,7 +315,8 @@ class StickySocialGoal:
         self.moved = moved
         self.tolerance = tolerance
         self.art_clearance = art_clearance
-        self._positions: np.ndarray | None = None
+        self._positions: dict[int, tuple[float, float]] | None = None
+        self._structures: tuple[Any, ...] | None = None
         self._goal: SocialGoal | None = None
 
     def __call__(
@@ -319,11 +325,22 @@ class StickySocialGoal:
         """The social goal for ``given_goal (3,)`` seen from ``pose (3,)``, or None."""
         from socialnav.social.resolve import resolve_social_goal
 
-        positions = social.positions()
+        positions = {p.id: p.position for p in social.people}
+        structures = (
+            tuple((g.member_ids, g.mode) for g in social.groups),
+            tuple(q.member_ids for q in social.queues),
+            tuple(a.viewer_ids for a in social.artworks),
+            tuple((x.kind, x.member_ids, x.params) for x in social.structures),
+        )
+        last = self._positions
         stale = (
-            self._positions is None
-            or self._positions.shape != positions.shape
-            or (positions.size and np.max(np.hypot(*(positions - self._positions).T)) > self.moved)
+            last is None
+            or structures != self._structures
+            or any(
+                math.hypot(x - last[i][0], y - last[i][1]) > self.moved
+                for i, (x, y) in positions.items()
+                if i in last
+            )
         )
         if stale:
             self._goal = resolve_social_goal(
@@ -334,7 +351,7 @@ class StickySocialGoal:
 
                 xy, yaw = self.tolerance
                 self._goal = replace(self._goal, position_tolerance=xy, yaw_tolerance=yaw)
-            self._positions = positions
+            self._positions, self._structures = positions, structures
         return self._goal
 
 
