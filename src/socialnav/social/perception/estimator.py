@@ -145,7 +145,22 @@ class ContextEstimator:
         self._last_seen: dict[int, tuple[float, Person]] = {}
         self._standing: dict[int, int] = {}
 
-    def _smooth(self, time: float, p: Person) -> Person:
+    def _standing_track_at(
+        self, pid: int, x: float, y: float, counts: dict[int, int]
+    ) -> tuple[Person, int] | None:
+        """The last estimate and count of the standing track (another id) nearest ``(x, y)``
+        within ``standing_gate``, or None."""
+        best: tuple[float, Person, int] | None = None
+        for other, (_, q) in self._last_seen.items():
+            n = counts.get(other, 0)
+            if other == pid or n == 0:
+                continue
+            d = math.hypot(x - q.position[0], y - q.position[1])
+            if d <= self.params.standing_gate and (best is None or d < best[0]):
+                best = (d, q, n)
+        return None if best is None else (best[1], best[2])
+
+    def _smooth(self, time: float, p: Person, counts: dict[int, int]) -> Person:
         last = self._last_seen.get(p.id)
         a = self.params.smoothing
         if last is None or a >= 1.0 or time <= last[0]:
@@ -158,14 +173,21 @@ class ContextEstimator:
         zx, zy = float(p.position[0]), float(p.position[1])
         innovation = math.hypot(zx - px, zy - py)
         standing = max(math.hypot(*p.velocity), math.hypot(*q.velocity)) < STANDING_SPEED
-        if standing and self._standing.get(p.id, 0) > 0:
+        n_prior = counts.get(p.id, 0)
+        if standing and n_prior > 0:
             # gated at where they stood: an id switch between neighbours 0.5-1 m apart is
             # inside ``gate`` but far outside the noise; averaged in, it slid both tracks
-            # across for seconds and bent the group's circle
+            # across for seconds and bent the group's circle. The measurement takes over the
+            # estimate of the standing track it falls on (the id switched, the person did
+            # not move), else the track restarts.
             innovation = math.hypot(zx - q.position[0], zy - q.position[1])
             if innovation > self.params.standing_gate:
-                self._standing[p.id] = 0
-                return p
+                other = self._standing_track_at(p.id, zx, zy, counts)
+                if other is None:
+                    self._standing[p.id] = 0
+                    return p
+                q, n_prior = other
+                px, py, innovation = q.position[0], q.position[1], 0.0
         if innovation > self.params.gate:
             self._standing[p.id] = 0
             return p
@@ -175,7 +197,7 @@ class ContextEstimator:
             # Predicted where they stood: integrating the (noise-only) velocity estimate would
             # drift the mean by (1 - a) / a · dt · v, 4-5 cm at the floor gain.
             px, py = float(q.position[0]), float(q.position[1])
-            n = self._standing.get(p.id, 0) + 1
+            n = n_prior + 1
             self._standing[p.id] = n
             a = max(1.0 / (n + 1), self.params.standing_smoothing)
         else:
@@ -193,7 +215,8 @@ class ContextEstimator:
         )
 
     def _tracks(self, time: float, people: Sequence[Person]) -> list[Person]:
-        people = [self._smooth(time, p) for p in people]
+        counts = dict(self._standing)  # before this cycle: id switches look up each other
+        people = [self._smooth(time, p, counts) for p in people]
         for p in people:
             self._last_seen[p.id] = (time, p)
         seen = {p.id for p in people}
