@@ -191,9 +191,7 @@ def test_a_viewer_looking_at_the_far_part_of_a_wide_artwork_is_a_viewer():
     assert estimate_once([away], knowledge).context.artworks[0].viewer_ids == ()
 
 
-@given(
-    st.floats(-1.5, 1.5), st.floats(0.4, 3.0), st.floats(-np.pi, np.pi), st.floats(0.2, 2.0)
-)
+@given(st.floats(-1.5, 1.5), st.floats(0.4, 3.0), st.floats(-np.pi, np.pi), st.floats(0.2, 2.0))
 def test_subtended_gaze_is_zero_exactly_when_the_heading_ray_hits_the_artwork(lat, depth, yaw, w):
     from socialnav.social.perception.viewers import subtended_gaze
 
