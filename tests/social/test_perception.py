@@ -271,6 +271,23 @@ def test_a_standing_persons_estimate_is_the_mean_of_noisy_observations():
     assert max(errors[30:]) < 0.03  # σ 0.05 m per observation
 
 
+def test_a_standing_person_is_reported_still_and_a_walker_keeps_their_velocity():
+    # velocity noise 0.05 m/s: smoothed, about 1 cm/s remained, enough for the planner to take
+    # a standing person for an oncoming one (paper hallway_stationary, Pioneer, detected)
+    rng = np.random.default_rng(1)
+    est = ContextEstimator()
+    for k in range(100):
+        z, v = rng.normal(0.0, 0.05, 2), rng.normal(0.0, 0.05, 2)
+        walker = (0.5 * 0.1 * k, 3.0)
+        out = est.update(
+            0.1 * k, [Person(1, tuple(z), tuple(v)), Person(2, walker, (0.5 + v[1], 0.0))]
+        )
+        if k >= 5:
+            velocity = {p.id: p.velocity for p in out.context.people}
+            assert velocity[1] == (0.0, 0.0)
+            assert velocity[2][0] == pytest.approx(0.5, abs=0.1)
+
+
 def test_an_id_switch_between_standing_neighbours_swaps_their_estimates():
     # two people 0.8 m apart (inside the 1 m gate) swap track ids, as a tracker does: each
     # id takes over the other's estimate at once, instead of sliding across for seconds

@@ -12,7 +12,11 @@ removing that assumption as future work; this module removes it. Every control c
    heading turn beyond 90° restarts the track at the measurement. People missed
    for at most ``coast_time`` (s) are coasted at their last velocity, so missed detections do
    not break up a group. Without smoothing, a 0.05 m position noise on three members of an
-   arc makes their fitted circle, and so the join spot, jump by metres.
+   arc makes their fitted circle, and so the join spot, jump by metres. A track slower than
+   ``still_speed`` is reported with zero velocity: what is left of the velocity noise after
+   smoothing (about 1 cm/s) otherwise made a standing person "oncoming" to the planner, which
+   then held back beside them (paper ``hallway_stationary``, Pioneer, stalled to the time
+   limit).
 2. **Detection**, in pipeline order, each detector seeing only people that earlier ones did not
    claim: queues at a desk of the map, artwork viewers (:mod:`.viewers`), queues without a
    desk (:mod:`.queues`; a line of people facing an artwork is its viewers), F-formations
@@ -65,6 +69,13 @@ DEFAULT_PIPELINE: tuple[str, ...] = (
 SPACING_RANGE = (0.5, 1.2)
 
 
+def _still(p: Person, speed: float) -> Person:
+    """``p`` with its velocity zeroed when it is below ``speed`` (m/s)."""
+    if math.hypot(*p.velocity) >= speed:
+        return p
+    return Person(p.id, p.position, (0.0, 0.0), p.yaw, p.radius)
+
+
 def _wrap(angle: float) -> float:
     """:func:`~socialnav.core.geometry.wrap_angle` of one float (the same formula)."""
     return (angle + math.pi) % (2.0 * math.pi) - math.pi
@@ -75,7 +86,8 @@ class EstimatorParams:
     """``coast_time`` (s), ``smoothing`` (α in (0, 1]; 1 = raw measurements),
     ``standing_smoothing`` (the floor of α for standing people), ``gate`` (m),
     ``standing_gate`` (m: the gate of a standing person's track, about 6 σ of the default
-    0.05 m position noise of :mod:`socialnav.sim.perception`),
+    0.05 m position noise of :mod:`socialnav.sim.perception`), ``still_speed`` (m/s: a track
+    slower than this is reported still, velocity zero),
     the detector ``pipeline`` (registry names, in order),
     ``detector_params`` (name → keyword overrides), ``hysteresis``, ``group_mode`` (mode of
     detected F-formations: ``join`` or ``lead``, the robot's task with a group)."""
@@ -85,6 +97,7 @@ class EstimatorParams:
     standing_smoothing: float = 0.02
     gate: float = 1.0
     standing_gate: float = 0.3
+    still_speed: float = 0.05
     pipeline: tuple[str, ...] = DEFAULT_PIPELINE
     detector_params: dict[str, dict[str, Any]] = field(default_factory=dict)
     hysteresis: HysteresisParams = field(default_factory=HysteresisParams)
@@ -245,7 +258,7 @@ class ContextEstimator:
 
     def update(self, time: float, people: Sequence[Person]) -> Estimate:
         """The estimate at ``time`` (s) from the people tracked now (``Person`` objects)."""
-        tracked = self._tracks(float(time), people)
+        tracked = [_still(p, self.params.still_speed) for p in self._tracks(float(time), people)]
         frame = TrackFrame.from_people(tracked, float(time))
         candidates = self.detect(frame)
         active = self.tracker.update(float(time), candidates)
