@@ -22,7 +22,7 @@ any more and ``V`` has stopped changing.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 
 import numpy as np
 
@@ -165,7 +165,9 @@ def _parked_safely(scn: Scenario, robot: RobotModel, xy: FloatArray, t: float) -
     return bool(np.any(np.all(d > need[None, :], axis=1)))
 
 
-def _distance_raster(scn: Scenario, segments: FloatArray, res: float = 0.025):  # noqa: ANN202
+def _distance_raster(
+    scn: Scenario, segments: FloatArray, res: float = 0.025
+) -> Callable[[FloatArray], FloatArray]:
     """``f(points (..., 2)) -> (...)``: distance (m) to the nearest of ``segments (S, 2, 2)``,
     looked up on a ``res`` raster over the scene's bounds (``inf`` without segments, 0 off the
     raster)."""
@@ -225,12 +227,13 @@ def can_avoid_collision(scn: Scenario, robot: RobotModel, horizon: float = 4.0) 
         return True
     poly = robot.polygon
     edges = np.concatenate(
-        [np.linspace(a, b, 5, endpoint=False) for a, b in zip(poly, np.roll(poly, -1, 0), strict=True)]
+        [
+            np.linspace(a, b, 5, endpoint=False)
+            for a, b in zip(poly, np.roll(poly, -1, 0), strict=True)
+        ]
     )  # (E, 2) robot frame: wall contact is checked on these
     walls = scn.walls_array()
-    obstacle_edges = [
-        np.stack([p, np.roll(p, -1, 0)], axis=1) for p in scn.obstacle_polygons()
-    ]
+    obstacle_edges = [np.stack([p, np.roll(p, -1, 0)], axis=1) for p in scn.obstacle_polygons()]
     segments = np.concatenate([walls, *obstacle_edges]) if obstacle_edges else walls
     wall_distance = _distance_raster(scn, segments)
     radii = np.array([p.radius for p in scn.people])
@@ -255,8 +258,10 @@ def can_avoid_collision(scn: Scenario, robot: RobotModel, horizon: float = 4.0) 
             people = scripted_positions(scn.people, t)  # (K, 2)
             rel = people[None, :, :] - s[:, None, :2]  # (N, K, 2) world → robot frame
             local = np.stack(
-                [c[:, None] * rel[..., 0] + sn[:, None] * rel[..., 1],
-                 -sn[:, None] * rel[..., 0] + c[:, None] * rel[..., 1]],
+                [
+                    c[:, None] * rel[..., 0] + sn[:, None] * rel[..., 1],
+                    -sn[:, None] * rel[..., 0] + c[:, None] * rel[..., 1],
+                ],
                 axis=-1,
             )
             gap = signed_distance_to_polygon(local, poly) - radii[None, :]  # (N, K)
@@ -265,8 +270,10 @@ def can_avoid_collision(scn: Scenario, robot: RobotModel, horizon: float = 4.0) 
             alive &= closest > 0.0
             if len(segments):
                 world = np.stack(
-                    [s[:, None, 0] + c[:, None] * edges[:, 0] - sn[:, None] * edges[:, 1],
-                     s[:, None, 1] + sn[:, None] * edges[:, 0] + c[:, None] * edges[:, 1]],
+                    [
+                        s[:, None, 0] + c[:, None] * edges[:, 0] - sn[:, None] * edges[:, 1],
+                        s[:, None, 1] + sn[:, None] * edges[:, 0] + c[:, None] * edges[:, 1],
+                    ],
                     axis=-1,
                 )  # (N, E, 2)
                 alive &= wall_distance(world).min(axis=1) > 0.0
@@ -276,8 +283,11 @@ def can_avoid_collision(scn: Scenario, robot: RobotModel, horizon: float = 4.0) 
         if _parked_safely(scn, robot, s[:, :2], t):
             return True
         key = np.concatenate(
-            [np.round(s[:, :2] / ESCAPE_CELL[0]), np.round(s[:, 2:3] / ESCAPE_CELL[1]),
-             np.round(s[:, 3:] / 0.05)],
+            [
+                np.round(s[:, :2] / ESCAPE_CELL[0]),
+                np.round(s[:, 2:3] / ESCAPE_CELL[1]),
+                np.round(s[:, 3:] / 0.05),
+            ],
             axis=1,
         )
         _, first = np.unique(key, axis=0, return_index=True)

@@ -28,6 +28,7 @@ from __future__ import annotations
 import numpy as np
 
 from socialnav.core.robot import RobotModel
+from socialnav.core.scene import HUMAN_RADIUS
 from socialnav.sim.generate._passage import can_avoid_collision, joint_clearance
 from socialnav.sim.generate.common import (
     GENERATORS,
@@ -44,7 +45,6 @@ from socialnav.sim.generate.common import (
     uniform,
     xy,
 )
-from socialnav.core.scene import HUMAN_RADIUS
 from socialnav.sim.scenario import PersonSpec, RobotSuccessOverride, Scenario, Stand, Walk
 from socialnav.social.proxemics import PERSONAL
 
