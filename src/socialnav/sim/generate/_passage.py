@@ -237,6 +237,7 @@ def can_avoid_collision(scn: Scenario, robot: RobotModel, horizon: float = 4.0) 
     segments = np.concatenate([walls, *obstacle_edges]) if obstacle_edges else walls
     wall_distance = _distance_raster(scn, segments)
     radii = np.array([p.radius for p in scn.people])
+    circ = robot.circumscribed_radius
     commands = _commands(robot)
     acc = np.array([robot.acc_lim_x, robot.acc_lim_y, robot.acc_lim_theta]) * ESCAPE_STEP
     # state: x, y, θ, vx, vy, ω
@@ -256,27 +257,33 @@ def can_avoid_collision(scn: Scenario, robot: RobotModel, horizon: float = 4.0) 
             s[:, 2] += s[:, 5] * ESCAPE_STEP
             c, sn = np.cos(s[:, 2]), np.sin(s[:, 2])
             people = scripted_positions(scn.people, t)  # (K, 2)
-            rel = people[None, :, :] - s[:, None, :2]  # (N, K, 2) world → robot frame
-            local = np.stack(
-                [
-                    c[:, None] * rel[..., 0] + sn[:, None] * rel[..., 1],
-                    -sn[:, None] * rel[..., 0] + c[:, None] * rel[..., 1],
-                ],
-                axis=-1,
-            )
-            gap = signed_distance_to_polygon(local, poly) - radii[None, :]  # (N, K)
+            rel = people[None, :, :] - s[:, None, :2]  # (N, K, 2)
+            # centre distance minus the circumscribed radius bounds the footprint's gap from
+            # below: only the states that could touch someone get the exact polygon check
+            gap = np.hypot(rel[..., 0], rel[..., 1]) - circ - radii[None, :]
+            close = np.flatnonzero((gap <= 0.0).any(axis=1))
+            if close.size:
+                cc, ss, rr = c[close, None], sn[close, None], rel[close]
+                local = np.stack(
+                    [cc * rr[..., 0] + ss * rr[..., 1], -ss * rr[..., 0] + cc * rr[..., 1]],
+                    axis=-1,
+                )  # world → robot frame
+                gap[close] = signed_distance_to_polygon(local, poly) - radii[None, :]
             closest = gap.min(axis=1)
             margin = np.minimum(margin, closest)
             alive &= closest > 0.0
             if len(segments):
-                world = np.stack(
-                    [
-                        s[:, None, 0] + c[:, None] * edges[:, 0] - sn[:, None] * edges[:, 1],
-                        s[:, None, 1] + sn[:, None] * edges[:, 0] + c[:, None] * edges[:, 1],
-                    ],
-                    axis=-1,
-                )  # (N, E, 2)
-                alive &= wall_distance(world).min(axis=1) > 0.0
+                near = np.flatnonzero(alive & (wall_distance(s[:, :2]) <= circ))
+                if near.size:
+                    cn, sm, sx = c[near, None], sn[near, None], s[near]
+                    world = np.stack(
+                        [
+                            sx[:, None, 0] + cn * edges[:, 0] - sm * edges[:, 1],
+                            sx[:, None, 1] + sm * edges[:, 0] + cn * edges[:, 1],
+                        ],
+                        axis=-1,
+                    )  # (n, E, 2)
+                    alive[near] &= wall_distance(world).min(axis=1) > 0.0
         s, margin = s[alive], margin[alive]
         if len(s) == 0:
             return False
