@@ -150,12 +150,11 @@ def draw(rng: np.random.Generator, name: str) -> Scenario:
             facts["personal_space_feasible"] = False
             binding = (
                 f"the corridor allows at most {worst:.2f} m from a person"
-                if worst <= joint + 0.05
+                if worst < PERSONAL + CLEARANCE_MARGIN
                 else f"no way keeps {PERSONAL} m from every person at once (people pass "
-                "at the same time): at most "
-                f"{joint:.2f} m"
+                f"at the same time): at most {joint:.2f} m"
             )
-            reason = f"{binding} (< {PERSONAL} m) for {robot_name}"
+            reason = f"{binding} (< {PERSONAL} m + {CLEARANCE_MARGIN} m) for {robot_name}"
         else:
             facts["personal_space_feasible"] = True
             reason = ""
