@@ -8,7 +8,6 @@ image row flip), ``origin`` is the world position of the lower-left corner of ce
 from __future__ import annotations
 
 import math
-
 from dataclasses import dataclass
 
 import numpy as np
