@@ -1120,6 +1120,10 @@ def warmup() -> float:
     for goal in (15, -1):
         astar(costs, costs == 0, 0, goal, np.array([[0, 1], [1, 1]]), np.ones(2), 50.0, 3.0, 0.1)
     min_squared_distances(poses[:, -1:], np.zeros((1, 1, 2)), np.array([0], np.intp), out)
+    from socialnav.world.costmap import _disc_costs
+
+    box = np.array([[0, 2, 0, 2]], dtype=np.int64)
+    _disc_costs(costs == 0, box, 1, np.zeros(3, np.uint8), np.zeros((4, 4), np.uint8))
     from socialnav.moo.paccet import warmup as paccet_warmup
 
     paccet_warmup()
