@@ -14,6 +14,7 @@ from socialnav.social.perception.fformations import (
     _centre,
     _labels_reference,
     assignment_costs,
+    gcff,
     kernel_params,
 )
 
@@ -60,6 +61,24 @@ def test_a_circle_and_a_pair_facing_each_other_compiled():
     yaw = np.concatenate([a + np.pi, [0.0, np.pi]])
     labels = gcff_kernel.solve_component(pos, yaw, kernel_params(FFormationParams()), 10)
     assert labels.tolist() == [0, 0, 0, 0, 1, 1]
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.integers(3, 8), st.floats(0.6, 1.8))
+def test_compiled_and_reference_paths_give_the_same_wide_circle_groups(seed, k, radius):
+    # the merge step (merge_wide) runs after either solve
+    rng = np.random.default_rng(seed)
+    a = 2 * np.pi * np.arange(k) / k + rng.normal(0, 0.15, k)
+    pos = radius * np.column_stack([np.cos(a), np.sin(a)]) + rng.normal(0, 0.05, (k, 2))
+    yaw = a + np.pi + rng.normal(0, np.radians(10.0), k)
+    previous = gcff_kernel.set_enabled(True)
+    try:
+        compiled = [g.tolist() for g in gcff(pos, yaw, FFormationParams())]
+        gcff_kernel.set_enabled(False)
+        reference = [g.tolist() for g in gcff(pos, yaw, FFormationParams())]
+    finally:
+        gcff_kernel.set_enabled(previous)
+    assert compiled == reference
 
 
 def test_set_enabled_switches_the_path_and_returns_the_previous_setting():
