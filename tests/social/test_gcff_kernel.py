@@ -16,6 +16,7 @@ from socialnav.social.perception.fformations import (
     assignment_costs,
     gcff,
     kernel_params,
+    merge_wide,
 )
 
 pytestmark = pytest.mark.skipif(not AVAILABLE, reason="numba not installed")
@@ -79,6 +80,20 @@ def test_compiled_and_reference_paths_give_the_same_wide_circle_groups(seed, k, 
     finally:
         gcff_kernel.set_enabled(previous)
     assert compiled == reference
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.integers(3, 12), st.floats(1.5, 6.0))
+def test_compiled_merge_equals_the_reference_on_random_scenes(seed, k, extent):
+    rng = np.random.default_rng(seed)
+    pos = rng.uniform(0.0, extent, (k, 2))
+    yaw = rng.uniform(-np.pi, np.pi, k)
+    p = FFormationParams(merge_facing=np.radians(60.0))  # loose: more merges to compare
+    start = _labels_reference(pos, yaw, p)
+    expected, strides = merge_wide(pos, yaw, start, p)
+    got, fitted = gcff_kernel.merge_wide(pos, yaw, start, kernel_params(p))
+    np.testing.assert_array_equal(got, expected)
+    assert {u: float(d) for u, d in enumerate(fitted) if np.isfinite(d)} == pytest.approx(strides)
 
 
 def test_set_enabled_switches_the_path_and_returns_the_previous_setting():

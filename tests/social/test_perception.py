@@ -107,7 +107,9 @@ def test_a_wide_circle_is_one_group_not_two(k, radius):
 
 def test_jittered_wide_circles_are_found_whole():
     rng = np.random.default_rng(3)
-    circles = [jittered_circle(rng, k, r) for k in (5, 6) for r in (1.3, 1.4, 1.5) for _ in range(5)]
+    circles = [
+        jittered_circle(rng, k, r) for k in (5, 6) for r in (1.3, 1.4, 1.5) for _ in range(5)
+    ]
     whole = sum(
         [g.size for g in gcff(pos, yaw, FFormationParams())] == [yaw.size] for pos, yaw in circles
     )

@@ -270,12 +270,13 @@ def _gcff(
     """Groups of one component with their strides (m): the compiled solve
     (:mod:`.gcff_kernel`) or the reference, then :func:`merge_wide`."""
     if gcff_kernel.enabled():
-        labels = gcff_kernel.solve_component(
-            positions, yaws, kernel_params(params), params.iterations
-        )
+        kp = kernel_params(params)
+        labels = gcff_kernel.solve_component(positions, yaws, kp, params.iterations)
+        labels, fitted = gcff_kernel.merge_wide(positions, yaws, labels, kp)
+        strides = {int(u): float(d) for u, d in enumerate(fitted) if np.isfinite(d)}
     else:
         labels = _labels_reference(positions, yaws, params)
-    labels, strides = merge_wide(positions, yaws, labels, params)
+        labels, strides = merge_wide(positions, yaws, labels, params)
     out = []
     for u in np.unique(labels):
         g = np.flatnonzero(labels == u)
@@ -311,10 +312,9 @@ def fitted_stride(
             break
         x = np.linalg.solve(m, b)
         stride = float(np.clip(x[2], p.stride, max(p.max_stride, p.stride)))
-        if stride == x[2]:
-            center = x[:2]
-        else:
-            center = _centre(positions, yaws, replace(p, stride=stride))
+        # a clipped stride: the centre solved again with that stride fixed
+        fixed = replace(p, stride=stride)
+        center = x[:2] if stride == x[2] else _centre(positions, yaws, fixed)
     return center, stride
 
 
@@ -392,6 +392,8 @@ def kernel_params(p: FFormationParams) -> FloatArray:
             p.occlusion_cost,
             p.occlusion_radius,
             p.heading_tolerance,
+            p.max_stride,
+            p.merge_facing,
         ]
     )
 
