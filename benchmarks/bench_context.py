@@ -165,6 +165,7 @@ def fformation_section(fit: bool) -> None:
                 on = "on" if hysteresis else "off"
                 emit(f"| {name} | {dt:g} s | {on} | {variant} | {label} | {scores} |")
     circle_section()
+    suite_group_section()
 
 
 SYNTH_SCENE = 10  # Synth: 10 static scenes of 10 frames each (ids reused across scenes)
@@ -230,6 +231,47 @@ def circle_section() -> None:
             f"| {name} | {rate(lambda k, r: True)} | {rate(lambda k, r: k >= 5 and r > 1.2)} | "
             f"{rate(lambda k, r: k == 2)} | {rate(lambda k, r: k == 3)} |"
         )
+
+
+def suite_group_section(seeds: range = range(60)) -> None:
+    """The generated suite's own standing groups (families group_join, group_lead, mixed;
+    development seeds): the standing people observed through the simulator's default
+    perception model for 3 s at 10 Hz, the estimator online; a group counts when it is one
+    detected group with exactly its members at the end."""
+    from socialnav.sim.generate.common import generate
+    from socialnav.sim.perception import PerceptionModel
+    from socialnav.sim.scenario import Stand
+
+    emit(f"\n## Generated group scenes (seeds {seeds.start}–{seeds.stop - 1}, found whole)\n")
+    emit("| family | fixed stride | wide-circle merge (defaults) | 5+ members, radius > 1.2 m |")
+    emit("|---|---|---|---|")
+    for family in ("group_join", "group_lead", "mixed"):
+        counts = {}
+        for max_stride in (0.0, FFormationParams().max_stride):
+            ok = n = wide_ok = wide_n = 0
+            for seed in seeds:
+                scn = generate(family, seed)
+                stand = [p for p in scn.people if isinstance(p.behavior, Stand)]
+                ids = np.array([p.id for p in stand])
+                pos = np.array([p.position for p in stand], dtype=float).reshape(-1, 2)
+                yaw = np.array([p.yaw or 0.0 for p in stand])
+                model = PerceptionModel(bounds=(0.0, 0.0, 14.0, 14.0), seed=seed)
+                overrides = {"fformation": {"max_stride": max_stride}}
+                est = ContextEstimator(params=EstimatorParams(detector_params=overrides))
+                for i in range(30):
+                    out = est.update(0.1 * i, model.observe(ids, pos, np.zeros_like(pos), yaw))
+                found = [set(g.member_ids) for g in out.context.groups if g.mode != "walking"]
+                for g in scn.groups:
+                    if g.mode == "walking":
+                        continue
+                    hit = set(g.members) in found
+                    xy = pos[np.isin(ids, g.members)]
+                    wide = len(g.members) >= 5 and np.hypot(*(xy - xy.mean(0)).T).mean() > 1.2
+                    ok, n = ok + hit, n + 1
+                    wide_ok, wide_n = wide_ok + (hit and wide), wide_n + wide
+            counts[max_stride] = (ok, n, wide_ok, wide_n)
+        (a, n, wa, wn), (b, _, wb, _) = counts.values()
+        emit(f"| {family} | {a}/{n} | {b}/{n} | {wa}/{wn} → {wb}/{wn} |")
 
 
 # --- 2. queues ------------------------------------------------------------------------------
