@@ -38,7 +38,9 @@ F-formations"); the o-space is Kendon's (Conducting Interaction, 1990).
    priced it), its members surround the centre (no angular gap between neighbours, seen from
    it, wider than π + ``heading_tolerance``: the o-space is enclosed by the p-space) and every
    member faces it within ``merge_facing``. ``max_stride <= stride`` turns the step off
-   (GCFF as published).
+   (GCFF as published). Two people alone are never merged into a pair here, so a pair or a
+   triple whose members are all left alone by GCFF (members more than ~2.3 m apart) stays
+   undetected.
 
 Parameters (metres, radians; defaults fitted on the Cristani et al. *Synth* data only, see
 ``benchmarks/bench_context.py --fit``): ``stride`` D, ``sigma`` σ, ``sigma_along``, ``mdl``,
@@ -51,9 +53,9 @@ A person joins a centre whose vote lies within ``σ·√mdl`` (0.5 m) across or
 for the original method. ``max_stride`` (2 m) is the widest circle the project's group
 scenarios use (radius 0.5–2 m, :mod:`socialnav.social.plausibility` admits up to 2.5 m);
 ``merge_facing`` (20°) is two standard deviations of the 10° heading noise of the simulator's
-default perception model (:class:`socialnav.sim.perception.PerceptionNoise`), set a priori
-(Synth has no circle wider than the stride, so it cannot fit it; on generated circles 25°
-joins one more of 105, see ``bench_context.py``). ``reuse_distance`` and ``reuse_angle``: see
+default perception model (:class:`socialnav.sim.perception.PerceptionNoise`), set a priori:
+Synth scores the same for any value from 15° to 30° (it has no circle wider than the stride),
+and on generated circles 25° joins one more of 105 (``bench_context.py``). ``reuse_distance`` and ``reuse_angle``: see
 :class:`FFormationDetector` (incremental solving across control cycles).
 
 Output: groups of at least two members with o-space centre (the fitted centre), radius (the mean
