@@ -55,8 +55,9 @@ scenarios use (radius 0.5–2 m, :mod:`socialnav.social.plausibility` admits up 
 ``merge_facing`` (20°) is two standard deviations of the 10° heading noise of the simulator's
 default perception model (:class:`socialnav.sim.perception.PerceptionNoise`), set a priori:
 Synth scores the same for any value from 15° to 30° (it has no circle wider than the stride),
-and on generated circles 25° joins one more of 105 (``bench_context.py``). ``reuse_distance`` and ``reuse_angle``: see
-:class:`FFormationDetector` (incremental solving across control cycles).
+and on generated circles 25° joins one more of 105 (``bench_context.py``). ``reuse_distance``
+and ``reuse_angle``: see :class:`FFormationDetector` (incremental solving across control
+cycles).
 
 Output: groups of at least two members with o-space centre (the fitted centre), radius (the mean
 member distance to it) and a score ``1 − mean cost / mdl`` in [0, 1]: the margin by which
