@@ -6,12 +6,21 @@ are skipped). Prints Markdown tables and writes them to ``benchmarks/out/context
 
 1. F-formations (Cristani et al., BMVC 2011: Synth and CoffeeBreak Seq1; positions in cm are
    converted to metres): precision, recall and F1 at T = 2/3 and T = 1 with the rule of
-   :func:`socialnav.metrics.groups.group_detection_scores`, each frame alone (no hysteresis:
-   the annotated frames are not consecutive video frames), with the defaults and with GCFF's
-   vote (``heading_tolerance = 0``); also Synth with its headings quantised to 4 directions,
+   :func:`socialnav.metrics.groups.group_detection_scores`, first each frame alone, with the
+   defaults, with GCFF's vote (``heading_tolerance = 0``) and with its fixed stride (no
+   wide-circle merge); also Synth with its headings quantised to 4 directions,
    as CoffeeBreak's head-pose classes are, to see what quantisation alone costs. ``--fit``
    repeats the grid search on Synth that chose the defaults of :class:`FFormationParams`;
-   CoffeeBreak is never used for fitting.
+   CoffeeBreak is never used for fitting. Then the frames as a sequence, through the
+   estimator as it runs online (track smoothing: a standing person's position and heading are
+   the running mean of their observations; optionally hysteresis): both files are sequences
+   (Synth: 10 static scenes of 10 jittered frames whose ids are reused by other people, so
+   the estimator is reset at each scene; CoffeeBreak: one scene, people coming and going).
+   The files give no time between frames, so Δt = 0.1 s (people missed for a frame are
+   coasted) and 1 s (beyond the 0.6 s coast time: they are not) are both shown. Last, wide
+   circles: 105 jittered circles (2–6 members, radius 0.6–1.5 m, σ 0.05 m, 10°, spacing
+   jitter σ 0.15 rad; seed 0), found whole with GCFF's fixed stride and with the wide-circle
+   merge (``FFormationParams.max_stride``, ``merge_facing``).
 2. Queues: 400 generated scenes (seeds 1014/1015; the parameters were tuned on 14/15), 2–8
    members, spacing 0.6–1.1 m, lateral bends up to 0.4 m, any orientation, position noise
    σ 0.1 m, heading noise σ 15°, with and without a desk (a service point from the map); a
@@ -44,6 +53,7 @@ from socialnav.sim.perception import PerceptionNoise
 from socialnav.social.perception import ContextEstimator, EstimatorParams, MapKnowledge, gcff_kernel
 from socialnav.social.perception.estimator import estimate_once
 from socialnav.social.perception.fformations import FFormationParams, gcff
+from socialnav.social.perception.tracking import HysteresisParams
 
 ROOT = Path(__file__).resolve().parents[1]
 DATA = ROOT / ".." / "shared" / "data"
@@ -126,6 +136,7 @@ def fformation_section(fit: bool) -> None:
     variants = {
         "defaults": params,
         "heading tolerance 0 (GCFF's vote)": replace(params, heading_tolerance=0.0),
+        "fixed stride (no wide-circle merge)": replace(params, max_stride=0.0),
     }
     emit("\n## F-formations (GCFF, single frames)\n")
     emit("| data | parameters | frames | T | precision | recall | F1 |")
@@ -138,6 +149,129 @@ def fformation_section(fit: bool) -> None:
                 s = group_detection_scores(det, truth, t)
                 scores = f"{s.precision:.3f} | {s.recall:.3f} | {s.f1:.3f}"
                 emit(f"| {name} | {variant} | {s.frames} | {label} | {scores} |")
+    emit("\n## F-formations over the sequence (the estimator online, defaults)\n")
+    emit("| data | Δt | hysteresis | F-formations | T | precision | recall | F1 |")
+    emit("|---|---|---|---|---|---|---|---|")
+    runs = [(dt, h, "defaults", None) for dt, h in itertools.product((0.1, 1.0), (False, True))]
+    runs.append((1.0, False, "fixed stride", {"max_stride": 0.0}))
+    for name in ("Synth", "CoffeeBreak_Seq1"):
+        fr, truth = frames[name], [t for _, t in frames[name]]
+        for dt, hysteresis, variant, overrides in runs:
+            scene = SYNTH_SCENE if name == "Synth" else None
+            det = detect_sequence(fr, dt, scene, hysteresis, overrides)
+            for label, t in (("2/3", 2 / 3), ("1", 1.0)):
+                s = group_detection_scores(det, truth, t)
+                scores = f"{s.precision:.3f} | {s.recall:.3f} | {s.f1:.3f}"
+                on = "on" if hysteresis else "off"
+                emit(f"| {name} | {dt:g} s | {on} | {variant} | {label} | {scores} |")
+    circle_section()
+    suite_group_section()
+
+
+SYNTH_SCENE = 10  # Synth: 10 static scenes of 10 frames each (ids reused across scenes)
+
+
+def detect_sequence(
+    frames, dt: float, scene: int | None, hysteresis: bool, fformation: dict | None = None
+) -> list[list[list[int]]]:
+    """F-formations of every frame with the estimator run over the frames in order (Δt ``dt``
+    s, reset every ``scene`` frames), its pipeline reduced to the F-formation detector as in
+    the single-frame rows; the candidates of each frame (``hysteresis=False``) or its active
+    structures."""
+    hyst = HysteresisParams() if hysteresis else HysteresisParams(0.0, on=0.0, off=0.0)
+    params = EstimatorParams(
+        pipeline=("fformation",),
+        hysteresis=hyst,
+        detector_params={"fformation": fformation or {}},
+    )
+    est = ContextEstimator(params=params)
+    out = []
+    for i, (rows, _) in enumerate(frames):
+        if scene and i % scene == 0:
+            est.reset()
+        people = [Person(int(r[0]), (r[1], r[2]), yaw=float(r[3])) for r in rows]
+        e = est.update(i * dt, people)
+        found = e.structures if hysteresis else e.candidates
+        out.append([list(s.members) for s in found if s.kind == "fformation"])
+    return out
+
+
+def jittered_circles(seed: int = 0) -> list[tuple[int, float, np.ndarray, np.ndarray]]:
+    """(members, radius, positions (K, 2), yaws (K,)) of 105 circles facing their centres."""
+    rng = np.random.default_rng(seed)
+    out = []
+    for k in range(2, 7):
+        for r in np.linspace(0.6, 1.5, 7):
+            for _ in range(3):
+                a = 2 * np.pi * np.arange(k) / k + rng.uniform(-np.pi, np.pi)
+                a = a + rng.normal(0, 0.15, k)
+                pos = r * np.column_stack([np.cos(a), np.sin(a)]) + rng.normal(0, 0.05, (k, 2))
+                out.append((k, float(r), pos, a + np.pi + rng.normal(0, np.radians(10), k)))
+    return out
+
+
+def circle_section() -> None:
+    circles = jittered_circles()
+    variants = {
+        "GCFF's fixed stride (max_stride = stride)": FFormationParams(max_stride=0.0),
+        "defaults (wide-circle merge, facing 20°)": FFormationParams(),
+        "merge, facing 25°": FFormationParams(merge_facing=float(np.radians(25.0))),
+    }
+    emit("\n## Wide circles (105 jittered circles, found whole)\n")
+    emit("| parameters | all 105 | 5–6 members, radius > 1.2 m | 2 members | 3 members |")
+    emit("|---|---|---|---|---|")
+    for name, p in variants.items():
+        whole = [[g.size for g in gcff(pos, yaw, p)] == [k] for k, _, pos, yaw in circles]
+
+        def rate(sel, whole=whole) -> str:
+            idx = [i for i, c in enumerate(circles) if sel(c[0], c[1])]
+            return f"{sum(whole[i] for i in idx)}/{len(idx)}"
+
+        emit(
+            f"| {name} | {rate(lambda k, r: True)} | {rate(lambda k, r: k >= 5 and r > 1.2)} | "
+            f"{rate(lambda k, r: k == 2)} | {rate(lambda k, r: k == 3)} |"
+        )
+
+
+def suite_group_section(seeds: range = range(60)) -> None:
+    """The generated suite's own standing groups (families group_join, group_lead, mixed;
+    development seeds): the standing people observed through the simulator's default
+    perception model for 3 s at 10 Hz, the estimator online; a group counts when it is one
+    detected group with exactly its members at the end."""
+    from socialnav.sim.generate.common import generate
+    from socialnav.sim.perception import PerceptionModel
+    from socialnav.sim.scenario import Stand
+
+    emit(f"\n## Generated group scenes (seeds {seeds.start}–{seeds.stop - 1}, found whole)\n")
+    emit("| family | fixed stride | wide-circle merge (defaults) | 5+ members, radius > 1.2 m |")
+    emit("|---|---|---|---|")
+    for family in ("group_join", "group_lead", "mixed"):
+        counts = {}
+        for max_stride in (0.0, FFormationParams().max_stride):
+            ok = n = wide_ok = wide_n = 0
+            for seed in seeds:
+                scn = generate(family, seed)
+                stand = [p for p in scn.people if isinstance(p.behavior, Stand)]
+                ids = np.array([p.id for p in stand])
+                pos = np.array([p.position for p in stand], dtype=float).reshape(-1, 2)
+                yaw = np.array([p.yaw or 0.0 for p in stand])
+                model = PerceptionModel(bounds=(0.0, 0.0, 14.0, 14.0), seed=seed)
+                overrides = {"fformation": {"max_stride": max_stride}}
+                est = ContextEstimator(params=EstimatorParams(detector_params=overrides))
+                for i in range(30):
+                    out = est.update(0.1 * i, model.observe(ids, pos, np.zeros_like(pos), yaw))
+                found = [set(g.member_ids) for g in out.context.groups if g.mode != "walking"]
+                for g in scn.groups:
+                    if g.mode == "walking":
+                        continue
+                    hit = set(g.members) in found
+                    xy = pos[np.isin(ids, g.members)]
+                    wide = len(g.members) >= 5 and np.hypot(*(xy - xy.mean(0)).T).mean() > 1.2
+                    ok, n = ok + hit, n + 1
+                    wide_ok, wide_n = wide_ok + (hit and wide), wide_n + wide
+            counts[max_stride] = (ok, n, wide_ok, wide_n)
+        (a, n, wa, wn), (b, _, wb, _) = counts.values()
+        emit(f"| {family} | {a}/{n} | {b}/{n} | {wa}/{wn} → {wb}/{wn} |")
 
 
 # --- 2. queues ------------------------------------------------------------------------------

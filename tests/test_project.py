@@ -41,6 +41,25 @@ def test_no_machine_specific_paths_in_sources() -> None:
     assert offenders == []
 
 
+def test_no_merge_conflict_markers_in_tracked_text() -> None:
+    # a marker line is exactly 7 of <, = or > (then a space and a name for < and >);
+    # reStructuredText tables use longer runs of =, so they never match
+    marker = re.compile(r"^(<{7} |={7}$|>{7} )", re.M)
+    offenders = [
+        str(path.relative_to(ROOT))
+        for path in [ROOT / "README.md", ROOT / "CHANGELOG.md", ROOT / "CONTRIBUTING.md"]
+        + [
+            p
+            for folder in ("src", "tests", "benchmarks", "docs", "examples", ".ci")
+            if (ROOT / folder).is_dir()
+            for p in (ROOT / folder).rglob("*")
+            if p.is_file() and p.suffix in {".py", ".yaml", ".md", ".toml", ""}
+        ]
+        if path.is_file() and marker.search(path.read_text(errors="replace"))
+    ]
+    assert offenders == []
+
+
 def test_readme_python_example_runs_and_plans_a_move() -> None:
     text = (ROOT / "README.md").read_text()
     blocks = re.findall(r"```python\n(.*?)```", text, re.S)

@@ -16,8 +16,14 @@ import yaml
 from navground import core, sim
 
 from socialnav.core.errors import ConfigurationError
+from socialnav.core.geometry import points_in_polygon
 from socialnav.core.robot import PR2
-from socialnav.integrations.navground_behavior import ROBOT_FIELDS, SocialNavBehavior
+from socialnav.integrations.navground_behavior import (
+    BODY_SIDES,
+    ROBOT_FIELDS,
+    SocialNavBehavior,
+    covering_footprint,
+)
 from socialnav.integrations.planner_options import our_planners, planner_options
 from socialnav.planner.local_planner import LocalPlannerParams
 from socialnav.sim.controller import CONTROLLERS, controller_names
@@ -155,6 +161,7 @@ def test_yaml_values_reach_the_planner_and_the_robot_model() -> None:
         "wheel_axis": 0.4,
         "max_speed": 0.8,
     }
+    experiment["scenario"]["groups"][0]["radius"] = 0.2  # the footprint covers the disc
     run = _run(experiment)
     behavior = run.world.agents[0].behavior
     controller = behavior.controller
@@ -168,6 +175,20 @@ def test_yaml_values_reach_the_planner_and_the_robot_model() -> None:
     assert model.max_vel_y == 0.0
     np.testing.assert_allclose(model.polygon[0], [0.3, 0.2])
     assert "sim_time: 1" in core.dump(behavior)
+
+
+def test_the_planned_footprint_covers_navgrounds_disc_body() -> None:
+    """navground collides discs: a footprint narrower than the agent's radius (the PR2 square,
+    sides at 0.325 m, in a 0.46 m disc) let the planner drive past a person side-on inside the
+    disc (a collision in the Cross example); the planned footprint now contains the disc."""
+    experiment = _walls_and_point((3.0, 0.0), steps=2, planner="traditional", robot="pr2")
+    behavior = _run(experiment).world.agents[0].behavior
+    model = behavior.robot_model
+    assert model.inscribed_radius >= 0.46 - 1e-6  # the disc is inside the footprint
+    assert np.all(points_in_polygon(PR2.polygon * 0.999, model.polygon))  # and the square
+    assert model.circumscribed_radius <= 0.46 / np.cos(np.pi / BODY_SIDES) + 1e-6
+    assert covering_footprint(PR2.polygon, 0.3) is None  # a disc inside the square: as given
+    assert covering_footprint(PR2.polygon, 0.0) is None
 
 
 def test_an_invalid_option_is_an_error_naming_the_property() -> None:

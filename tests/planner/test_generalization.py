@@ -268,3 +268,76 @@ def test_bug_given_goal_beside_a_standing_person_is_not_forbidden_by_id():
     assert critic.score(closer, ctx).cost[0] > 0.0
     far = dataclasses.replace(ctx, goal=np.array([-3.0, 0.0, 0.0]))
     assert partner_thresholds(far, 1.5, 0.05)[0] == 1.5  # a far goal changes nothing
+
+
+def _turn_at_the_spot(dist, bearing, yaw0, origin):
+    """PR2 at its goal position facing ``yaw0``, a person ``dist`` m away at ``bearing``, the
+    goal yaw facing them; returns the smallest footprint-to-disc gap (m) while it arrives."""
+    from socialnav.core.geometry import signed_distance_to_polygon
+    from socialnav.planner.context import PlanningContext
+    from socialnav.planner.local_planner import PlannerStatus
+    from socialnav.planner.navigator import Navigator
+    from socialnav.planner.presets import build_local_planner
+    from socialnav.world.grid import Costmap, GridGeometry
+
+    person = Person(1, (dist * np.cos(bearing), dist * np.sin(bearing)), radius=0.25)
+    social = SocialContext((person,))
+    costmap = Costmap(np.zeros((80, 80), np.uint8), GridGeometry((80, 80), 0.05, origin))
+    navigator = Navigator.__new__(Navigator)  # only the people layer is exercised
+    navigator.people_as_obstacles, navigator.robot = True, PR2
+    local = navigator._with_people(costmap, social)
+    planner = build_local_planner("paccet", PR2, social)
+    pose, velocity = np.array([0.0, 0.0, yaw0]), np.zeros(3)
+    goal = np.array([0.0, 0.0, bearing])
+    worst, status = np.inf, None
+    for k in range(150):
+        ctx = PlanningContext(
+            pose, velocity, goal, goal[None, :2], local, PR2, social=social, time=0.1 * k
+        )
+        result = planner.plan(ctx)
+        status = result.status
+        if status == PlannerStatus.GOAL_REACHED:
+            break
+        cmd = result.cmd
+        for _ in range(10):  # integrate finely: a graze lasts a few degrees
+            c, s = np.cos(pose[2]), np.sin(pose[2])
+            pose = pose + 0.01 * np.array(
+                [c * cmd[0] - s * cmd[1], s * cmd[0] + c * cmd[1], cmd[2]]
+            )
+            c, s = np.cos(pose[2]), np.sin(pose[2])
+            poly = PR2.polygon @ np.array([[c, s], [-s, c]]) + pose[:2]
+            gap = signed_distance_to_polygon(np.array(person.position), poly) - person.radius
+            worst = min(worst, float(gap))
+        velocity = cmd
+    return worst, status
+
+
+def test_bug_in_place_turn_at_the_spot_never_sweeps_a_corner_into_the_person():
+    """Generated queue, PR2 (the reporting split's kind, rebuilt here by hand): at a tail slot
+    0.70 m from the last member, less than the PR2's corner (0.46 m) plus the person
+    (0.25 m), the in-place turn to face them swept a corner 1–2 cm into them: the rasterized
+    check judged the turn legal at some sub-cell offsets. The turn is now also checked on the
+    people's discs (``TURN_CLEARANCE``): the robot makes room first and never touches them."""
+    from socialnav.planner.local_planner import PlannerStatus
+
+    worst, status = _turn_at_the_spot(0.7062, 0.3800, -0.5503, (-1.9591, -1.9687))
+    assert worst > 0.0
+    assert status == PlannerStatus.GOAL_REACHED
+
+
+def test_turn_clearance_is_the_footprint_to_disc_gap_over_the_turn():
+    from socialnav.planner.context import PlanningContext
+    from socialnav.planner.local_planner import turn_clearance
+    from socialnav.world.grid import Costmap, GridGeometry
+
+    costmap = Costmap(np.zeros((10, 10), np.uint8), GridGeometry((10, 10), 0.1, (-0.5, -0.5)))
+    social = SocialContext((Person(1, (0.0, 0.72), radius=0.25),))
+    ctx = PlanningContext(
+        np.zeros(3), np.zeros(3), np.zeros(3), np.zeros((1, 2)), costmap, PR2, social=social
+    )
+    half = 0.325  # PR2 square: the face at yaw 0, the corner at yaw pi/4
+    assert turn_clearance(np.zeros(3), 0.0, PR2, ctx) == pytest.approx(0.72 - half - 0.25)
+    corner = PR2.circumscribed_radius
+    swept = turn_clearance(np.zeros(3), np.pi / 2, PR2, ctx)
+    assert swept == pytest.approx(0.72 - corner - 0.25, abs=1e-4)
+    assert turn_clearance(np.array([5.0, 5.0, 0.0]), 3.0, PR2, ctx) == np.inf

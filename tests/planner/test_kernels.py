@@ -283,8 +283,8 @@ def test_warmup_covers_selection_search_and_layers() -> None:
     settle=st.booleans(),
 )
 def test_bfs_grid_identical(seed: int, density: float, n_seeds: int, settle: bool) -> None:
-    """Identical step counts inside the settle region; outside it the reference is exact or
-    inf, and the compiled flood (exact everywhere) agrees wherever the reference is finite."""
+    """Identical step counts inside the settle region; outside it both paths are exact or inf
+    (the compiled flood stops once the region is settled): every finite value is the exact one."""
     from socialnav.planner.critics.map_grid import bfs_distance
 
     rng = np.random.default_rng(seed)
@@ -303,9 +303,109 @@ def test_bfs_grid_identical(seed: int, density: float, n_seeds: int, settle: boo
     if region is None:
         assert np.array_equal(ref, fast)
     else:
+        with compiled(False):
+            exact = bfs_distance(passable, seeds)
         assert np.array_equal(ref[region], fast[region])
-        finite = np.isfinite(ref)
-        assert np.array_equal(ref[finite], fast[finite])
+        assert np.array_equal(exact[region], fast[region])
+        finite = np.isfinite(fast)
+        assert np.array_equal(exact[finite], fast[finite])
+
+
+@settings(max_examples=60)
+@given(
+    seed=st.integers(0, 2**31 - 1),
+    n=st.integers(2, 40),
+    repeat=st.floats(0.0, 0.5),
+    spacing=st.sampled_from([0.025, 0.05, 0.1, 0.3, 7.0]),
+)
+def test_plan_densify_and_cells_identical(seed: int, n: int, repeat: float, spacing: float) -> None:
+    """The densified plan and its seed cells (first in-map non-UNKNOWN stretch) bit for bit,
+    with repeated vertices (zero-length segments), plans leaving and re-entering the map and
+    UNKNOWN cells."""
+    from socialnav.planner.critics.map_grid import densify_path, local_plan_cells
+    from socialnav.world.grid import Costmap
+
+    rng = np.random.default_rng(seed)
+    path = rng.uniform(-1.0, 5.0, (n, 2)) * rng.choice([1.0, 0.1])
+    dup = rng.random(n) < repeat
+    dup[0] = False
+    path[dup] = path[np.flatnonzero(dup) - 1]
+    costs = rng.integers(0, 253, (60, 70)).astype(np.uint8)
+    costs[rng.random(costs.shape) < 0.1] = 255
+    costmap = Costmap(costs, GridGeometry((60, 70), 0.05, (0.2, -0.1)))
+    with compiled(False):
+        ref_dense = densify_path(path, spacing)
+        ref_cells = local_plan_cells(costmap, path)
+    with compiled(True):
+        fast_dense = densify_path(path, spacing)
+        fast_cells = local_plan_cells(costmap, path)
+    assert fast_dense.shape == ref_dense.shape
+    assert np.array_equal(fast_dense, ref_dense)
+    assert np.array_equal(fast_cells, ref_cells) and fast_cells.dtype == ref_cells.dtype
+    same = np.repeat(path[:1], 3, axis=0)  # zero length: the first point only
+    with compiled(True):
+        assert np.array_equal(densify_path(same, spacing), same[:1])
+
+
+@settings(max_examples=60)
+@given(
+    seed=st.integers(0, 2**31 - 1),
+    density=st.floats(0.0005, 0.6),
+    reach=st.one_of(st.none(), st.floats(0.05, 3.0)),
+)
+def test_occupancy_clearance_identical(seed: int, density: float, reach: float | None) -> None:
+    """The occupancy critic's clearance levels (an exact distance transform, compiled, against
+    SciPy's ``distance_transform_edt``) bit for bit, with the box at and off the map's edges."""
+    from scipy.ndimage import distance_transform_edt
+
+    from socialnav.planner.critics.occupancy import _prepare_clearance
+    from socialnav.world.grid import Costmap
+
+    rng = np.random.default_rng(seed)
+    shape = tuple(int(v) for v in rng.integers(3, 90, 2))
+    free = rng.random(shape) >= density
+    free[tuple(rng.integers(0, shape))] = False
+    out = np.zeros((shape[0] - 1, shape[1] - 1), np.uint16)
+    kernels.clearance_levels(free, 7.5, 1, 0, out)
+    ref = np.floor(np.minimum(distance_transform_edt(free), 7.5)[1:, : shape[1] - 1] * 16.0)
+    assert np.array_equal(out, ref)
+    costs = np.where(rng.random(shape) < density, 254, 0).astype(np.uint8)
+    costmap = Costmap(costs, GridGeometry(shape, 0.05))
+    pose = np.array([*rng.uniform(0.0, 0.05 * np.array(shape[::-1])), 0.0])
+    got = []
+    for flag in (False, True):
+        ctx = PlanningContext(pose, np.zeros(3), pose, pose[None, :2], costmap, PR2)
+        ctx.cache.reach = reach
+        with compiled(flag):
+            _prepare_clearance(ctx)
+        got.append((ctx.cache.occupancy_clearance, ctx.cache.occupancy_need))
+    assert np.array_equal(got[0][0], got[1][0]) and np.array_equal(got[0][1], got[1][1])
+
+
+@settings(max_examples=60)
+@given(
+    seed=st.integers(0, 2**31 - 1),
+    x=st.floats(-0.5, 3.5),
+    y=st.floats(-0.5, 3.5),
+    yaw=st.floats(-4.0, 4.0),
+    robot=st.sampled_from([PR2, PIONEER]),
+)
+def test_footprint_cells_identical(seed: int, x: float, y: float, yaw: float, robot) -> None:
+    """The cells under the robot's footprint (and its centre cell) bit for bit, also when the
+    footprint hangs over the map's edge or lies off it."""
+    from socialnav.planner.critics.map_grid import footprint_cells
+    from socialnav.world.grid import Costmap
+
+    rng = np.random.default_rng(seed)
+    res = float(rng.choice([0.025, 0.05, 0.1]))
+    costmap = Costmap(np.zeros((60, 60), np.uint8), GridGeometry((60, 60), res, (0.0, 0.0)))
+    pose = np.array([x, y, yaw])
+    masks = []
+    for flag in (False, True):
+        ctx = PlanningContext(pose, np.zeros(3), pose, pose[None, :2], costmap, robot)
+        with compiled(flag):
+            masks.append(footprint_cells(ctx))
+    assert np.array_equal(masks[0], masks[1])
 
 
 @settings(max_examples=30)

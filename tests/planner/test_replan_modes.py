@@ -101,6 +101,43 @@ def test_deferred_plan_applied_exactly_delay_steps_later():
     assert applied[1 : 1 + len(deferred)] == [k + delay for k in deferred]
 
 
+def test_a_deferred_periodic_replan_takes_effect_when_an_inline_one_would():
+    """The periodic replan is requested ``replan_delay`` steps early, so a plan takes effect at
+    the same steps as inline (applied 2 steps late, the plan through an oncoming person made a
+    Pioneer brake, back off and then intrude in the hallway_oncoming scenario)."""
+    _, _, _, applied_inline = run("inline", 40)
+    _, _, requests, applied_deferred = run("deferred", 40, slow=0.05)
+    assert len(applied_inline) >= 4
+    assert applied_deferred == applied_inline
+    early = [k + 2 for k in requests[1:] if k + 2 <= 40]
+    assert early == applied_deferred[1:]  # each requested 2 steps early
+
+
+def test_the_worker_plans_from_where_robot_and_people_will_be_when_it_is_used():
+    """A plan from the pose 2 steps old differed by a cell from the inline one, and the Pioneer
+    then stalled beside the stationary person of hallway_stationary for 20 s."""
+    nav = build_navigator(
+        "paccet", PR2, COSTMAP, GOAL, SocialContext(), replan_mode="deferred", replan_delay=3
+    )
+    seen: list[tuple[np.ndarray, SocialContext]] = []
+    compute = nav._compute_plan
+
+    def spy(pose, target, social, fresh):
+        seen.append((pose, social))
+        return compute(pose, target, social, fresh)
+
+    nav._compute_plan = spy
+    walker = SocialContext((Person(0, (6.0, 6.0), (1.0, -0.5)), Person(1, (8.0, 5.0))))
+    pose, twist = np.array([3.0, 3.0, np.pi / 2]), np.array([0.5, 0.0, 0.0])
+    nav._request(0.0, pose, GOAL, walker, False, False, twist)
+    nav._pending.future.result()
+    nav.close()
+    lead = 3 * nav.controller_period
+    start, people = seen[0]
+    np.testing.assert_allclose(start, [3.0, 3.0 + 0.5 * lead, np.pi / 2], atol=1e-12)
+    np.testing.assert_allclose(people.positions(), [[6.0 + lead, 6.0 - 0.5 * lead], [8.0, 5.0]])
+
+
 def test_threaded_replanning_applies_when_done():
     cmds, paths, requests, _ = run("threaded", 30)
     assert len(requests) >= 4

@@ -66,7 +66,7 @@ def test_social_spot_is_reachable_and_arrival_needs_the_yaw(family):
 
 def test_hallway_ranges_and_clearance_facts():
     widths, counts, speeds = [], [], []
-    for seed in range(40):
+    for seed in range(20):  # 20 cover widths 2.29-3.91 m, 0-3 people, waived and required
         scn = generate("hallway", seed)
         ys = [y for wall in scn.map.walls for _, y in wall]
         width = max(ys) - min(ys)
@@ -87,9 +87,13 @@ def test_hallway_ranges_and_clearance_facts():
             (waived,) = [
                 c for c in scn.success_spec(robot) if c.name == "no_personal_space_intrusion"
             ]
-            if clearances and min(clearances) < PERSONAL + 0.05:
+            assert facts["collision_free"] is True
+            joint = facts["joint_clearance"]
+            if clearances:  # together never more than alone, but for the grid's cell
+                assert joint <= max(clearances) + 0.05
+            if joint < PERSONAL + 0.05:
                 assert not waived.required
-                assert "corridor allows" in waived.reason
+                assert "corridor allows" in waived.reason or "at once" in waived.reason
             else:
                 assert waived.required and not waived.reason
     assert min(widths) >= 2.2 and max(widths) <= 4.0 and max(widths) - min(widths) > 1.2

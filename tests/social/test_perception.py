@@ -15,7 +15,12 @@ from socialnav.social.perception import (
     TrackFrame,
     estimate_once,
 )
-from socialnav.social.perception.fformations import FFormationParams, facility_location, gcff
+from socialnav.social.perception.fformations import (
+    FFormationParams,
+    facility_location,
+    gcff,
+    merge_wide,
+)
 from socialnav.social.plausibility import group_plausibility
 from socialnav.social.resolve import resolve_social_goal_detailed
 
@@ -77,39 +82,69 @@ def test_a_wide_circle_with_headings_off_by_14_degrees_is_one_group():
     pos = 1.2 * np.column_stack([np.cos(a), np.sin(a)])
     yaw = a + np.pi + np.radians(14.0)
     assert [g.tolist() for g in gcff(pos, yaw, FFormationParams())] == [[0, 1, 2, 3]]
-    strict = gcff(pos, yaw, FFormationParams(heading_tolerance=0.0))
+    # GCFF as published: exact headings and a fixed stride (no wide-circle merge)
+    strict = gcff(pos, yaw, FFormationParams(heading_tolerance=0.0, max_stride=0.0))
     assert [g.tolist() for g in strict] == [[0, 1], [2, 3]]
 
 
-def test_incremental_reuse_gives_the_solve_of_a_nearby_frame_and_resolves_on_change():
-    people = circle_group((0, 0), 0.7, 3) + circle_group((6, 0), 0.6, 2, start_id=10)
-    est = ContextEstimator()
-    detector = dict(est.detectors)["fformation"]
-    first = sorted(c.members for c in est.update(0.0, people).candidates)
-    assert first == [(0, 1, 2), (10, 11)]
-    solved = dict(detector._solved)
-    # 1 cm moves: both components reuse their solve (the same candidate objects)
-    moved = [Person(p.id, (p.position[0] + 0.01, p.position[1]), yaw=p.yaw) for p in people]
-    est.update(0.1, moved)
-    assert all(detector._solved[k] is v for k, v in solved.items())
-    # the pair turns away from each other: that component is solved again, the other reused
-    away = [Person(p.id, p.position, yaw=p.yaw + np.pi) if p.id >= 10 else p for p in moved]
-    est.update(0.2, away)
-    assert detector._solved[(0, 1, 2)] is solved[(0, 1, 2)]
-    assert detector._solved[(10, 11)] is not solved[(10, 11)]
-    assert detector._solved[(10, 11)].candidates == []
-    est.reset()
-    assert detector._solved == {}
+def jittered_circle(rng, k, radius):
+    """``k`` people on a circle of ``radius`` m facing its centre, with the simulator's default
+    perception noise (σ 0.05 m, 10°) and uneven spacing (σ 0.15 rad along the circle)."""
+    a = 2 * np.pi * np.arange(k) / k + rng.uniform(-np.pi, np.pi) + rng.normal(0, 0.15, k)
+    pos = radius * np.column_stack([np.cos(a), np.sin(a)]) + rng.normal(0, 0.05, (k, 2))
+    return pos, a + np.pi + rng.normal(0, np.radians(10.0), k)
 
 
-def test_someone_between_a_person_and_the_ospace_centre_occludes_them():
-    # 0 and 1 face each other 1.6 m apart; 2 stands between 0 and their centre, facing 0
-    pos = np.array([(0.0, 0.0), (1.6, 0.0), (0.4, 0.0)])
-    yaw = np.array([0.0, np.pi, np.pi])
-    assert [g.tolist() for g in gcff(pos[:2], yaw[:2], FFormationParams())] == [[0, 1]]
-    blind = gcff(pos, yaw, FFormationParams(occlusion_cost=0.0))
-    assert [g.tolist() for g in blind] == [[0, 1, 2]]
-    assert [g.tolist() for g in gcff(pos, yaw, FFormationParams())] == [[1, 2]]
+@pytest.mark.parametrize("k", [5, 6, 7])
+@pytest.mark.parametrize("radius", [1.45, 1.6])
+def test_a_wide_circle_is_one_group_not_two(k, radius):
+    # with a fixed 0.4 m stride each of these came out as two groups (the cheaper labelling)
+    pos, yaw = jittered_circle(np.random.default_rng(100 * k + int(10 * radius)), k, radius)
+    assert [g.tolist() for g in gcff(pos, yaw, FFormationParams())] == [list(range(k))]
+    fixed = gcff(pos, yaw, FFormationParams(max_stride=0.0))
+    assert [g.tolist() for g in fixed] != [list(range(k))]
+
+
+def test_jittered_wide_circles_are_found_whole():
+    rng = np.random.default_rng(3)
+    circles = [
+        jittered_circle(rng, k, r) for k in (5, 6) for r in (1.3, 1.4, 1.5) for _ in range(5)
+    ]
+    whole = sum(
+        [g.size for g in gcff(pos, yaw, FFormationParams())] == [yaw.size] for pos, yaw in circles
+    )
+    assert whole >= 27  # of 30; 0 with a fixed stride
+
+
+def test_a_wide_circle_candidate_has_its_radius_and_a_confident_score():
+    people = circle_group((2.0, 1.0), 1.5, 6)
+    (cand,) = estimate_once(people).candidates
+    assert cand.members == tuple(range(6))
+    np.testing.assert_allclose(cand.geometry["ospace_center"], (2.0, 1.0), atol=1e-6)
+    assert cand.geometry["ospace_radius"] == pytest.approx(1.5)
+    assert cand.score > 0.9
+
+
+def test_neighbouring_conversations_are_not_merged_into_a_wide_circle():
+    people = circle_group((0, 0), 0.6, 3) + circle_group((2.0, 0), 0.6, 3, start_id=3)
+    pos = np.array([p.position for p in people])
+    yaw = np.array([p.yaw for p in people])
+    assert [g.tolist() for g in gcff(pos, yaw, FFormationParams())] == [[0, 1, 2], [3, 4, 5]]
+
+
+def test_two_halves_of_an_arc_facing_a_common_point_are_not_merged():
+    # six people on three eighths of a 1.5 m circle, all facing its centre: their fitted
+    # centre and stride fit exactly, but they do not surround it (an audience, not an o-space)
+    a = np.linspace(0.0, 0.75 * np.pi, 6)
+    pos = 1.5 * np.column_stack([np.cos(a), np.sin(a)])
+    halves = np.array([0, 0, 0, 1, 1, 1])
+    labels, strides = merge_wide(pos, a + np.pi, halves, FFormationParams())
+    assert labels.tolist() == halves.tolist() and strides == {}
+    # the same six spread over the whole circle are one o-space, its stride the radius
+    a = 2 * np.pi * np.arange(6) / 6
+    pos = 1.5 * np.column_stack([np.cos(a), np.sin(a)])
+    labels, strides = merge_wide(pos, a + np.pi, halves, FFormationParams())
+    assert labels.tolist() == [0] * 6 and strides[0] == pytest.approx(1.5)
 
 
 @given(st.lists(st.floats(0, 10), min_size=4, max_size=16), st.floats(0.5, 50))

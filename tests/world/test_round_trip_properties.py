@@ -109,3 +109,18 @@ def test_a_glitching_person_gets_a_lobe_clipped_to_the_grid():
     xs, _ = geo.cell_centers()
     assert np.all(out[xs < 2.0 - behind] == 0)  # and only the plain Gaussian behind
     assert out.max() <= 77
+
+
+@settings(max_examples=200, deadline=None)
+@given(
+    x=st.floats(-1e16, 1e16) | st.floats(-10.0, 10.0),
+    y=st.floats(-1e16, 1e16) | st.floats(-10.0, 10.0),
+    res=st.sampled_from([0.025, 0.05, 0.1, 0.3]),
+    origin=st.tuples(st.floats(-50.0, 50.0), st.floats(-50.0, 50.0)),
+)
+def test_one_point_maps_to_the_cell_of_the_batch_lookup(x, y, res, origin):
+    """The single-point fast path of ``world_to_cell`` gives the batch path's cell."""
+    geo = GridGeometry((5, 5), res, origin)
+    one = geo.world_to_cell(np.array([x, y]))
+    batch = geo.world_to_cell(np.array([[x, y]]))[0]
+    assert one.dtype == batch.dtype and one.tolist() == batch.tolist()

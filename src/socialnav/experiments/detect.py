@@ -225,13 +225,16 @@ def detect_file(source: str, out: Path, noise: str = "default", seed: int = 0) -
         from socialnav.crowds.space import area_walls
 
         walls, title = area_walls(recording.area), recording.name
+        robot = None
     else:
         record = _record_of(source)
         estimates, table = detect_record(record, noise, seed)
-        walls, title = record.walls, record.scenario
+        walls, title, robot = record.walls, record.scenario, record.robot_poses
     out.mkdir(parents=True, exist_ok=True)
     pq.write_table(table, out / STRUCTURES_FILE)
-    save_figure(plot_context(estimates, walls=walls, title=title), out / "context.png")
+    save_figure(
+        plot_context(estimates, walls=walls, title=title, robot_poses=robot), out / "context.png"
+    )
     kinds = table.column("kind").to_pylist()
     return {
         "source": source,

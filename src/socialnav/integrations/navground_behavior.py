@@ -48,6 +48,7 @@ from typing import Any
 
 import numpy as np
 from navground import core
+from scipy.spatial import ConvexHull
 
 from socialnav.core.errors import ConfigurationError
 from socialnav.core.robot import ROBOT_MODELS, RobotModel
@@ -56,7 +57,7 @@ from socialnav.integrations.planner_options import build_planner, our_planners, 
 from socialnav.sim.engine import ControllerBehavior, pose_of
 from socialnav.sim.scenario import Scenario
 
-__all__ = ["ROBOT_FIELDS", "SocialNavBehavior"]
+__all__ = ["BODY_SIDES", "ROBOT_FIELDS", "SocialNavBehavior", "covering_footprint"]
 
 #: RobotModel numbers settable as properties (``nan``: the named model's value)
 ROBOT_FIELDS = (
@@ -126,6 +127,41 @@ def _properties() -> dict[str, property]:
     return props
 
 
+#: Sides of the polygon that stands in for navground's disc body in the planner's footprint.
+BODY_SIDES = 16
+
+
+def covering_footprint(
+    polygon: np.ndarray, radius: float
+) -> tuple[tuple[float, float], ...] | None:
+    """The footprint covering both the model's ``polygon (V, 2)`` (body frame, m) and
+    navground's disc body of ``radius`` (m) centred on the agent, or ``None`` when the polygon
+    already contains the disc (``radius`` at most its inscribed radius, or 0).
+
+    navground checks collisions between discs: an agent of radius r collides whenever a person
+    comes within r, whatever footprint the planner keeps clear. A PR2 square (sides at 0.325 m)
+    in a 0.46 m disc let the planner pass a person side-on 9–13 cm from the square but inside
+    the disc (a "collision" in navground's Cross example). The cover is the convex hull of the
+    polygon and a regular ``BODY_SIDES``-gon circumscribed about the disc (its inscribed
+    circle is the disc), counter-clockwise.
+    """
+    poly = np.asarray(polygon, dtype=float)
+    if not (radius > 0.0):
+        return None
+    a, b = poly, np.roll(poly, -1, axis=0)
+    ab = b - a
+    t = np.clip(-(a * ab).sum(axis=1) / np.maximum((ab * ab).sum(axis=1), 1e-300), 0.0, 1.0)
+    inscribed = float(np.hypot(*(a + t[:, None] * ab).T).min())
+    if radius <= inscribed:
+        return None
+    angles = (np.arange(BODY_SIDES) + 0.5) * (2.0 * math.pi / BODY_SIDES)
+    outer = radius / math.cos(math.pi / BODY_SIDES)
+    gon = np.column_stack([np.cos(angles), np.sin(angles)]) * outer
+    points = np.concatenate([poly, gon])
+    hull = ConvexHull(points)  # 2-D: vertices counter-clockwise
+    return tuple((float(x), float(y)) for x, y in points[hull.vertices])
+
+
 class _SocialNavBase(ControllerBehavior):
     """The behaviour's logic; :class:`SocialNavBehavior` adds the registered properties."""
 
@@ -162,6 +198,9 @@ class _SocialNavBase(ControllerBehavior):
                 raise ConfigurationError("SocialNav behaviour: footprint: needs at least 3 points")
             update["footprint"] = tuple((float(p[0]), float(p[1])) for p in footprint)
         model = dataclasses.replace(model, **update)
+        body = covering_footprint(model.polygon, float(self.radius))
+        if body is not None:
+            model = dataclasses.replace(model, footprint=body)
         kin = self.kinematics
         holonomic = model.holonomic if kin is None else kin.dof() == 3
         speed = float(self.max_speed) if kin is not None or self.max_speed > 0 else math.inf

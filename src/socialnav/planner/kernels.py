@@ -760,59 +760,324 @@ def proxemic_costs(
 
 
 @_jit
-def _bfs_kernel(passable, seeds, dist):  # type: ignore[no-untyped-def]
+def _bfs_state_kernel(passable, r0, r1, c0, c1, state):  # type: ignore[no-untyped-def]
+    # Padded state: 0 blocked or pad (never entered), 1 passable, 2 passable inside the settle
+    # box. Returns how many cells are 2.
     rows, cols = passable.shape
-    queue = np.empty(rows * cols, dtype=np.int64)
-    head = 0
-    tail = 0
-    for k in range(seeds.shape[0]):
-        r, c = seeds[k, 0], seeds[k, 1]
-        if dist[r, c] != 0.0:
-            dist[r, c] = 0.0
-            queue[tail] = r * cols + c
-            tail += 1
-    while head < tail:
-        u = queue[head]
-        head += 1
-        r = u // cols
-        c = u - r * cols
-        d = dist[r, c]
-        if d != 0.0 and not passable[r, c]:
-            continue  # reached but blocked: never expands (seeds expand whatever their cost)
-        d1 = d + np.float32(1.0)
-        if r > 0 and dist[r - 1, c] == np.inf:
-            dist[r - 1, c] = d1
-            queue[tail] = u - cols
-            tail += 1
-        if c > 0 and dist[r, c - 1] == np.inf:
-            dist[r, c - 1] = d1
-            queue[tail] = u - 1
-            tail += 1
-        if c + 1 < cols and dist[r, c + 1] == np.inf:
-            dist[r, c + 1] = d1
-            queue[tail] = u + 1
-            tail += 1
-        if r + 1 < rows and dist[r + 1, c] == np.inf:
-            dist[r + 1, c] = d1
-            queue[tail] = u + cols
-            tail += 1
+    w = cols + 2
+    count = 0
     for r in range(rows):
+        base = (r + 1) * w + 1
+        inside_r = r0 <= r < r1
         for c in range(cols):
-            if not passable[r, c]:
-                dist[r, c] = np.inf
+            if passable[r, c]:
+                if inside_r and c0 <= c < c1:
+                    state[base + c] = 2
+                    count += 1
+                else:
+                    state[base + c] = 1
+    return count
+
+
+@_jit
+def _bfs_flood_kernel(state, count, seeds, w, dist):  # type: ignore[no-untyped-def]
+    # Level-synchronous BFS on the padded flat grid (no bounds checks, no division). A cell is
+    # entered once (its state drops to 0), so blocked cells are never reached — the reference
+    # reaches them without expanding and resets them to inf: same values; seeds expand whatever
+    # their cost. Every cell gets its final level when first entered, so the flood stops as soon
+    # as every passable cell of the settle box has one (``count`` left to enter).
+    n = state.size
+    queue = np.empty(n, dtype=np.int32)
+    tail = 0
+    remaining = count
     for k in range(seeds.shape[0]):
-        dist[seeds[k, 0], seeds[k, 1]] = 0.0
+        u = (seeds[k, 0] + 1) * w + seeds[k, 1] + 1
+        if dist[u] != 0.0:
+            dist[u] = 0.0
+            if state[u] == 2:
+                remaining -= 1
+            state[u] = 0
+            queue[tail] = u
+            tail += 1
+    head = 0
+    level = np.float32(0.0)
+    while head < tail and remaining > 0:
+        stop = tail
+        level = level + np.float32(1.0)
+        while head < stop:
+            u = queue[head]
+            head += 1
+            for v in (u - w, u - 1, u + 1, u + w):
+                sv = state[v]
+                if sv != 0:
+                    if sv == 2:
+                        remaining -= 1
+                    state[v] = 0
+                    dist[v] = level
+                    queue[tail] = v
+                    tail += 1
+            if remaining == 0:
+                break
 
 
-def bfs_distance(passable: NDArray[np.bool_], seeds: NDArray[np.intp]) -> NDArray[np.float32]:
+def bfs_distance(
+    passable: NDArray[np.bool_],
+    seeds: NDArray[np.intp],
+    settle: tuple[slice, slice] | None = None,
+    state: tuple[NDArray[np.uint8], int] | None = None,
+) -> NDArray[np.float32]:
     """4-connected BFS step counts ``(rows, cols)`` float32 from in-grid ``seeds (K, 2)``
-    (row, col), exact everywhere: :func:`socialnav.planner.critics.map_grid.bfs_distance`
-    semantics (seeds 0 whatever their cost, blocked cells never expand and read ``inf``)."""
-    dist = np.full(passable.shape, np.inf, dtype=np.float32)
+    (row, col): :func:`socialnav.planner.critics.map_grid.bfs_distance` semantics (seeds 0
+    whatever their cost, blocked cells never expand and read ``inf``; exact inside ``settle``,
+    elsewhere exact or ``inf``; exact everywhere without ``settle``). ``state`` is a
+    :func:`bfs_state` of the same mask and ``settle`` (shared by several floods)."""
+    rows, cols = passable.shape
+    if state is None:
+        state = bfs_state(passable, settle)
+    dist = np.full((rows + 2) * (cols + 2), np.inf, dtype=np.float32)
     seeds = np.ascontiguousarray(seeds, dtype=np.int64).reshape(-1, 2)
     if seeds.shape[0]:
-        _bfs_kernel(np.ascontiguousarray(passable, dtype=np.bool_), seeds, dist)
-    return dist
+        _bfs_flood_kernel(state[0].copy(), state[1], seeds, cols + 2, dist)
+    return dist.reshape(rows + 2, cols + 2)[1:-1, 1:-1]
+
+
+def bfs_state(
+    passable: NDArray[np.bool_], settle: tuple[slice, slice] | None = None
+) -> tuple[NDArray[np.uint8], int]:
+    """The padded flood state of ``passable (rows, cols)`` and the number of passable cells in
+    ``settle`` (the whole grid without it) for :func:`bfs_distance`."""
+    rows, cols = passable.shape
+    if settle is None:
+        box = (0, rows, 0, cols)
+    else:
+        rs, cs = settle
+        box = (*rs.indices(rows)[:2], *cs.indices(cols)[:2])
+    state = np.zeros((rows + 2) * (cols + 2), dtype=np.uint8)
+    count = _bfs_state_kernel(np.ascontiguousarray(passable, dtype=np.bool_), *box, state)
+    return state, int(count)
+
+
+# ---- plan densification and plan cells ------------------------------------------------------
+
+
+@_jit
+def _densify_kernel(path, spacing):  # type: ignore[no-untyped-def]
+    # densify_path's reference step by step: arc length by np.linalg.norm (sqrt(dx² + dy²)) and
+    # a sequential cumsum, the query points of np.arange (i * spacing, ceil(stop / spacing) of
+    # them) plus the end, and np.interp's formula (slope · (q − s[j]) + fp[j], s[j] ≤ q < s[j+1],
+    # q == s[j] → fp[j], the end → fp[-1], its NaN fallbacks).
+    m = path.shape[0]
+    s = np.empty(m)
+    s[0] = 0.0
+    acc = 0.0
+    for i in range(1, m):
+        dx = path[i, 0] - path[i - 1, 0]
+        dy = path[i, 1] - path[i - 1, 1]
+        acc += np.sqrt(dx * dx + dy * dy)
+        s[i] = acc
+    stop = s[m - 1]
+    n = int(np.ceil(stop / spacing))
+    out = np.empty((n + 1, 2))
+    j = 0
+    for i in range(n + 1):
+        q = i * spacing if i < n else stop
+        if q >= stop:
+            out[i, 0] = path[m - 1, 0]
+            out[i, 1] = path[m - 1, 1]
+            continue
+        while s[j + 1] <= q:
+            j += 1
+        for a in range(2):
+            if s[j] == q:
+                out[i, a] = path[j, a]
+                continue
+            slope = (path[j + 1, a] - path[j, a]) / (s[j + 1] - s[j])
+            v = slope * (q - s[j]) + path[j, a]
+            if np.isnan(v):
+                v = slope * (q - s[j + 1]) + path[j + 1, a]
+                if np.isnan(v) and path[j, a] == path[j + 1, a]:
+                    v = path[j, a]
+            out[i, a] = v
+    return out
+
+
+def densify_path(path: NDArray[np.float64], spacing: float) -> NDArray[np.float64]:
+    """:func:`socialnav.planner.critics.map_grid.densify_path` for a finite ``(P, 2)`` path of
+    positive length and ``P >= 2``, bit for bit."""
+    return _densify_kernel(np.ascontiguousarray(path, dtype=np.float64), float(spacing))
+
+
+@_jit
+def _plan_cells_kernel(dense, ox, oy, res, costs, unknown):  # type: ignore[no-untyped-def]
+    # local_plan_cells' reference: world_to_cell per point, then the first contiguous run of
+    # in-grid cells that are not UNKNOWN.
+    rows, cols = costs.shape
+    m = dense.shape[0]
+    rc = np.empty((m, 2), dtype=np.intp)
+    first = -1
+    last = m
+    for i in range(m):
+        c = int(np.floor((dense[i, 0] - ox) / res))
+        r = int(np.floor((dense[i, 1] - oy) / res))
+        rc[i, 0] = r
+        rc[i, 1] = c
+        ok = 0 <= r < rows and 0 <= c < cols and costs[r, c] != unknown
+        if first < 0:
+            if ok:
+                first = i
+        elif not ok:
+            last = i
+            break
+    if first < 0:
+        return rc[:0].copy()
+    return rc[first:last].copy()
+
+
+def plan_cells(
+    geom: GridGeometry, costs: NDArray[np.uint8], dense: NDArray[np.float64], unknown: int
+) -> NDArray[np.intp]:
+    """:func:`socialnav.planner.critics.map_grid.local_plan_cells` of a finite densified plan
+    ``dense (P, 2)`` (m), bit for bit: ``(K, 2)`` (row, col)."""
+    return _plan_cells_kernel(
+        np.ascontiguousarray(dense, dtype=np.float64),
+        float(geom.origin[0]),
+        float(geom.origin[1]),
+        float(geom.resolution),
+        np.ascontiguousarray(costs),
+        unknown,
+    )
+
+
+# ---- occupancy clearance (exact Euclidean distance transform) --------------------------------
+
+
+@_jit
+def _clearance_kernel(free, cap, i0, j0, out):  # type: ignore[no-untyped-def]
+    # Exact squared Euclidean distance to the nearest False cell of ``free`` (Felzenszwalb &
+    # Huttenlocher: per column the 1-D distance, then per row the lower envelope of parabolas
+    # over the columns that have a False cell; integer arithmetic, the intersections compared
+    # as doubles, which separates distinct rationals of this size). Then
+    # ``floor(min(sqrt(d), cap) * 16)`` for the box ``out`` at (i0, j0): scipy's
+    # distance_transform_edt gives sqrt of the same integer (its feature transform is exact).
+    h, w = free.shape
+    big = h + w + 1
+    g = np.empty((h, w), dtype=np.int64)
+    for c in range(w):
+        last = -big
+        for r in range(h):
+            if not free[r, c]:
+                last = r
+            g[r, c] = r - last if last > -big else -1
+        last = -big
+        for r in range(h - 1, -1, -1):
+            if not free[r, c]:
+                last = r
+            if last > -big and (g[r, c] < 0 or last - r < g[r, c]):
+                g[r, c] = last - r
+    oh, ow = out.shape
+    v = np.empty(w, dtype=np.int64)
+    z = np.empty(w + 1)
+    fv = np.empty(w, dtype=np.int64)
+    for r in range(i0, i0 + oh):
+        k = -1
+        for q in range(w):
+            gq = g[r, q]
+            if gq < 0:
+                continue
+            fq = gq * gq
+            if k < 0:
+                k = 0
+                v[0] = q
+                fv[0] = fq
+                z[0] = -np.inf
+                z[1] = np.inf
+                continue
+            while True:  # z[0] = -inf: never pops the first parabola
+                p = v[k]
+                sq = ((fq + q * q) - (fv[k] + p * p)) / (2.0 * (q - p))
+                if sq > z[k]:
+                    break
+                k -= 1
+            k += 1
+            v[k] = q
+            fv[k] = fq
+            z[k] = sq
+            z[k + 1] = np.inf
+        k = 0
+        for c in range(j0, j0 + ow):
+            while z[k + 1] < c:
+                k += 1
+            d = (c - v[k]) * (c - v[k]) + fv[k]
+            x = min(np.sqrt(np.float64(d)), cap)
+            out[r - i0, c - j0] = np.uint16(np.floor(x * 16.0))
+
+
+def clearance_levels(
+    free: NDArray[np.bool_], cap: float, i0: int, j0: int, out: NDArray[np.uint16]
+) -> None:
+    """Fill ``out (h, w)`` with ``floor(min(edt(free), cap) * 16)`` of the box of ``free`` at
+    ``(i0, j0)``, where ``edt`` is :func:`scipy.ndimage.distance_transform_edt` (cells to the
+    nearest False cell; ``free`` must have one), bit for bit."""
+    _clearance_kernel(np.ascontiguousarray(free, dtype=np.bool_), float(cap), i0, j0, out)
+
+
+# ---- footprint cells -----------------------------------------------------------------------
+
+
+@_jit
+def _footprint_kernel(poly, px, py, ox, oy, res, mask):  # type: ignore[no-untyped-def]
+    # footprint_cells' reference: the polygon's cell box (world_to_cell of its min and max,
+    # clipped), points_in_polygon at cell_to_world centres (the same IEEE operations per cell
+    # and edge), then the centre cell.
+    rows, cols = mask.shape
+    nv = poly.shape[0]
+    xmin, ymin, xmax, ymax = poly[0, 0], poly[0, 1], poly[0, 0], poly[0, 1]
+    for i in range(1, nv):
+        xmin = min(xmin, poly[i, 0])
+        xmax = max(xmax, poly[i, 0])
+        ymin = min(ymin, poly[i, 1])
+        ymax = max(ymax, poly[i, 1])
+    r0 = max(int(np.floor((ymin - oy) / res)), 0)
+    r1 = min(int(np.floor((ymax - oy) / res)) + 1, rows)
+    c0 = max(int(np.floor((xmin - ox) / res)), 0)
+    c1 = min(int(np.floor((xmax - ox) / res)) + 1, cols)
+    for r in range(r0, r1):
+        y = oy + (np.float64(r) + 0.5) * res
+        for c in range(c0, c1):
+            x = ox + (np.float64(c) + 0.5) * res
+            count = 0
+            for i in range(nv):
+                j = i + 1 if i + 1 < nv else 0
+                x0, y0 = poly[i, 0], poly[i, 1]
+                x1, y1 = poly[j, 0], poly[j, 1]
+                if (y0 > y) != (y1 > y):
+                    dy = y1 - y0 if y1 != y0 else 1.0
+                    if x < x0 + (y - y0) * (x1 - x0) / dy:
+                        count += 1
+            mask[r, c] = count % 2 == 1
+    r = int(np.floor((py - oy) / res))
+    c = int(np.floor((px - ox) / res))
+    if 0 <= r < rows and 0 <= c < cols:
+        mask[r, c] = True
+
+
+def footprint_mask(
+    geom: GridGeometry, polygon: NDArray[np.float64], centre: NDArray[np.float64]
+) -> NDArray[np.bool_]:
+    """``(rows, cols)`` mask of the cells whose centre lies inside the world polygon ``(V, 2)``
+    (m), plus the cell of ``centre (2,)`` (m): bit for bit
+    :func:`socialnav.planner.critics.map_grid.footprint_cells`' reference (finite input)."""
+    mask = np.zeros(geom.shape, dtype=np.bool_)
+    _footprint_kernel(
+        np.ascontiguousarray(polygon, dtype=np.float64),
+        float(centre[0]),
+        float(centre[1]),
+        float(geom.origin[0]),
+        float(geom.origin[1]),
+        float(geom.resolution),
+        mask,
+    )
+    return mask
 
 
 # ---- warm-up -------------------------------------------------------------------------------
@@ -844,6 +1109,10 @@ def warmup() -> float:
     out = np.full((2, 1), np.inf)
     min_squared_distances(poses, np.zeros((4, 1, 2)), np.array([0], np.intp), out)
     bfs_distance(np.ones((3, 3), dtype=bool), np.array([[1, 1]], dtype=np.intp))
+    footprint_mask(GridGeometry((4, 4), 0.25), outline, pose)
+    dense = densify_path(np.array([[0.0, 0.0], [1.0, 0.5]]), 0.1)
+    plan_cells(GridGeometry((4, 4), 0.25), costs, dense, 255)
+    clearance_levels(costs != 0, 3.0, 0, 0, np.zeros((4, 4), np.uint16)[1:3, 1:3])
     time_box(poses)
     nearest_vertex(poses[:, -1], np.zeros((2, 2)))
     grid_weights(costs, costs == 0, np.array([[0, 1]]), np.array([0.25]), 50.0, 3.0)
@@ -851,6 +1120,10 @@ def warmup() -> float:
     for goal in (15, -1):
         astar(costs, costs == 0, 0, goal, np.array([[0, 1], [1, 1]]), np.ones(2), 50.0, 3.0, 0.1)
     min_squared_distances(poses[:, -1:], np.zeros((1, 1, 2)), np.array([0], np.intp), out)
+    from socialnav.world.costmap import _disc_costs
+
+    box = np.array([[0, 2, 0, 2]], dtype=np.int64)
+    _disc_costs(costs == 0, box, 1, np.zeros(3, np.uint8), np.zeros((4, 4), np.uint8))
     from socialnav.moo.paccet import warmup as paccet_warmup
 
     paccet_warmup()

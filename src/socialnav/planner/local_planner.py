@@ -58,6 +58,9 @@ from socialnav.planner.sampling import sample_twists, validate_sampling
 #: m/s: the translation that makes room for an in-place rotation at the goal (module docstring)
 MAKE_ROOM_SPEED = 0.1
 MAKE_ROOM_STEPS = (0.5, 1.0, 1.5, 2.0)  # s of that translation tried, shortest first (5–20 cm)
+#: gap (m) the footprint keeps from every person's disc during an in-place turn at the goal,
+#: checked on the discs themselves: the rasterized check let a PR2 corner graze by 1–2 cm
+TURN_CLEARANCE = 0.02
 
 
 class PlannerStatus(StrEnum):
@@ -168,6 +171,35 @@ def _passing_waypoint(ctx: PlanningContext) -> bool:
     if sg is None or not getattr(sg, "is_waypoint", False):
         return False
     return bool(np.allclose(np.asarray(sg.pose, dtype=float)[:2], ctx.goal[:2]))
+
+
+def turn_clearance(
+    pose: FloatArray, end_yaw: float, robot: RobotModel, ctx: PlanningContext
+) -> float:
+    """Smallest gap (m) between the footprint turning in place at ``pose (3,)`` (world) to
+    ``end_yaw`` (rad, unwrapped: the turn goes the way ``end_yaw - pose[2]`` says) and every
+    person's disc in ``ctx.social`` (where they are now; ``inf`` when nobody is within the
+    circumscribed radius + their radius + :data:`TURN_CLEARANCE`). Exact up to the
+    1° yaw step (a corner 0.5 m out moves < 1 cm between samples, and the distance varies
+    slower than that)."""
+    from socialnav.core.geometry import signed_distance_to_polygon
+
+    people, radii = ctx.social.positions(), ctx.social.radii()
+    if len(people) == 0:
+        return float("inf")
+    pose = np.asarray(pose, dtype=float)
+    reach = robot.circumscribed_radius + radii + TURN_CLEARANCE
+    near = np.hypot(*(people - pose[:2]).T) <= reach
+    if not near.any():
+        return float("inf")
+    steps = max(int(np.ceil(abs(end_yaw - pose[2]) / np.radians(1.0))), 1)
+    best = float("inf")
+    for yaw in np.linspace(pose[2], end_yaw, steps + 1):
+        c, s = np.cos(yaw), np.sin(yaw)
+        poly = robot.polygon @ np.array([[c, s], [-s, c]]) + pose[:2]
+        gap = signed_distance_to_polygon(people[near], poly) - radii[near]
+        best = min(best, float(gap.min()))
+    return best
 
 
 def stop_at_goal(trajs: Trajectories, goal: FloatArray, tolerance: float) -> Trajectories:
@@ -450,7 +482,8 @@ class LocalPlanner:
         except CriticUnavailable as exc:
             return PlannerStatus.CRITIC_UNAVAILABLE, _zero(), str(exc)
         cycle.twists, cycle.trajs, cycle.evaluation = twists, trajs, ev
-        if not ev.legal[0]:
+        end_yaw = float(trajs.poses[0, -1, 2])
+        if not ev.legal[0] or turn_clearance(ctx.pose, end_yaw, r, ctx) < TURN_CLEARANCE:
             room = self._make_room(ctx, err)
             if room is not None:
                 self._made_room = True
@@ -490,7 +523,9 @@ class LocalPlanner:
                 ok = evaluate(self.objectives, trajs, ctx).legal.copy()
                 for j in np.flatnonzero(ok):
                     spin = rollout(ends[j], np.zeros(3), np.array([[0.0, 0.0, w]]), r, whole)
-                    ok[j] = bool(evaluate(self.objectives, spin, ctx).legal[0])
+                    ok[j] = bool(evaluate(self.objectives, spin, ctx).legal[0]) and (
+                        turn_clearance(ends[j], ends[j][2] + err, r, ctx) >= TURN_CLEARANCE
+                    )
                 if ok.any():
                     reach = np.hypot(ends[:, 0] - ctx.goal[0], ends[:, 1] - ctx.goal[1])
                     k = int(np.argmin(np.where(ok, reach, np.inf)))

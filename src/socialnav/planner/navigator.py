@@ -25,8 +25,14 @@ Decisions:
   (from that step's pose, target and people) runs on a worker thread and is applied at step
   ``k + replan_delay`` exactly (joined there, waiting if it is late), so the same inputs give
   the same run whatever the machine's load; ``"threaded"`` (the real loop, e.g. the ROS node)
-  applies it at the first step after it finished. Until then the previous plan is followed;
-  without one (the first plan, or after a failed plan left none) the step plans inline. With
+  applies it at the first step after it finished. Until then the previous plan is followed.
+  A periodic (or waiting) replan is requested ``replan_delay`` steps before it is due, from the
+  pose the robot will have then (its twist held) and with the people where they will be
+  (constant velocity), so it takes effect when an inline replan would: applied late, the plan
+  through an oncoming person made a Pioneer brake, back off and intrude (paper suite,
+  hallway_oncoming), and one from the older pose stalled it beside a standing person
+  (hallway_stationary). A new target, a pose off the plan, or no plan (the first plan, or
+  after a failed plan left none) replans inline, as the step must react at once. With
   ``global_search="compiled"`` the search runs without the GIL, so the worker does not stall
   the control step (SciPy's Dijkstra holds it).
 - The plan is pruned behind the robot: it starts at the plan vertex nearest the robot among the
@@ -83,6 +89,24 @@ class _PendingPlan:
     target: FloatArray
     changed: bool
     off_plan: bool
+
+
+def _advanced(social: SocialContext, dt: float) -> SocialContext:
+    """``social`` with every person moved ``dt`` s along their velocity (constant velocity)."""
+    if dt <= 0.0 or not social.people:
+        return social
+    return social.with_people(
+        tuple(
+            replace(
+                p,
+                position=(
+                    float(p.position[0]) + float(p.velocity[0]) * dt,
+                    float(p.position[1]) + float(p.velocity[1]) * dt,
+                ),
+            )
+            for p in social.people
+        )
+    )
 
 
 class Navigator:
@@ -283,7 +307,7 @@ class Navigator:
             )
             return PlannerResult(np.zeros(3), PlannerStatus.NO_PATH, None, why)
         self.resolved_goal = resolved
-        path = self._global_path(now, pose, resolved, social)
+        path = self._global_path(now, pose, resolved, social, velocity)
         if path is None:
             return PlannerResult(
                 np.zeros(3), PlannerStatus.NO_PATH, None, f"global planner: {self.last_plan_status}"
@@ -395,7 +419,12 @@ class Navigator:
         return bool(d.min() > self.max_path_deviation)
 
     def _global_path(
-        self, now: float, pose: FloatArray, target: FloatArray, social: SocialContext
+        self,
+        now: float,
+        pose: FloatArray,
+        target: FloatArray,
+        social: SocialContext,
+        velocity: FloatArray | None = None,
     ) -> FloatArray | None:
         changed = self._path_target is None or (
             np.hypot(*(target[:2] - self._path_target[:2])) > 0.05
@@ -404,17 +433,17 @@ class Navigator:
         self._collect(now)
         age = now - self._plan_time
         off_plan = self._off_plan(pose)
-        due = (
-            changed
-            or self._path is None
-            or age >= self.replan_period
-            or (self._waiting and age >= self.waiting_replan_period)
-            or off_plan
+        # A periodic (or waiting) replan is known in advance: off-line modes request it
+        # ``replan_delay`` steps early so it takes effect at the step an inline replan would.
+        lead = 0.0 if self.replan_mode == "inline" else self._lead()
+        scheduled = age >= self.replan_period - lead or (
+            self._waiting and age >= self.waiting_replan_period - lead
         )
-        if due and self.replan_mode != "inline" and self._path is not None:
+        urgent = changed or self._path is None or off_plan  # react now, as inline does
+        if scheduled and not urgent and self.replan_mode != "inline":
             if self._pending is None:  # one replan in flight at a time
-                self._request(now, pose, target, social, changed, off_plan)
-        elif due:
+                self._request(now, pose, target, social, changed, off_plan, velocity)
+        elif urgent or scheduled:
             self._discard_pending()
             plan = self._compute_plan(pose, target, social, changed or self._path is None)
             self._apply_plan(now, pose, target, plan, changed, off_plan)
@@ -473,16 +502,37 @@ class Navigator:
         social: SocialContext,
         changed: bool,
         off_plan: bool,
+        velocity: FloatArray | None = None,
     ) -> None:
         """Start the replan of this step on the worker (module docstring, ``replan_mode``)."""
         if self._executor is None:
             self._executor = ThreadPoolExecutor(1, thread_name_prefix="socialnav-replan")
         pose, target = pose.copy(), target.copy()
-        future = self._executor.submit(self._compute_plan, pose, target, social, changed)
+        # The plan is used from ``lead`` s on: it starts where the robot will be then (its
+        # current twist held) and goes around people where they will be (constant velocity),
+        # as an inline replan at that step would, not through someone's new place.
+        lead = self._lead()
+        start = pose if velocity is None else self._predicted(pose, velocity, lead)
+        ahead = _advanced(social, lead)
+        future = self._executor.submit(self._compute_plan, start, target, ahead, changed)
         self._pending = _PendingPlan(
             future, self._step_index + self.replan_delay, now, pose, target, changed, off_plan
         )
-        self._plan_time = now  # the period counts from the request
+
+    def _predicted(self, pose: FloatArray, velocity: FloatArray, dt: float) -> FloatArray:
+        """``pose (3,)`` after ``dt`` s at the body twist ``velocity (3,)`` (midpoint heading),
+        kept on the map."""
+        yaw = float(pose[2]) + 0.5 * float(velocity[2]) * dt
+        c, s = np.cos(yaw), np.sin(yaw)
+        x = float(pose[0]) + (c * float(velocity[0]) - s * float(velocity[1])) * dt
+        y = float(pose[1]) + (s * float(velocity[0]) + c * float(velocity[1])) * dt
+        x0, y0, x1, y1 = self._bounds
+        return np.array([min(max(x, x0), x1), min(max(y, y0), y1), float(pose[2])])
+
+    def _lead(self) -> float:
+        """Seconds between a replan's request and its use (``replan_delay`` control periods;
+        for ``"threaded"`` the expected delay)."""
+        return self.replan_delay * self.controller_period
 
     def _collect(self, now: float) -> None:
         """Apply the pending plan when its step has come (deferred: joined, waiting if late)
@@ -501,9 +551,8 @@ class Navigator:
         except Exception as exc:  # a failed replan keeps the current plan
             self.last_plan_status = f"replan failed: {type(exc).__name__}: {exc}"
             return
-        self._apply_plan(
-            pending.time, pending.pose, pending.target, plan, pending.changed, pending.off_plan
-        )
+        # The period counts from when the plan took effect, as for an inline replan.
+        self._apply_plan(now, pending.pose, pending.target, plan, pending.changed, pending.off_plan)
 
     def _discard_pending(self) -> None:
         if self._pending is not None:

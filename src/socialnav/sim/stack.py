@@ -37,8 +37,11 @@ class StackController:
     :class:`RecoveryParams` or a mapping of field overrides of the preset's (``None``: the
     preset's); e.g. ``{"evasion_ttc": 0}`` switches evasion off.
     ``global_search``, ``replan_mode``, ``replan_delay``: the navigator's rate-separated
-    replanning (:class:`~socialnav.planner.navigator.Navigator`; the defaults replan inline);
-    in simulation use ``replan_mode="deferred"`` (reproducible), never ``"threaded"``.
+    replanning (:class:`~socialnav.planner.navigator.Navigator`). The defaults are the compiled
+    search and ``"deferred"``: the plan requested at step k is applied at step k + 2 (on a
+    worker thread, reproducible under any load), so a periodic replan never sits inside a
+    control step; ``"inline"`` replans in the step (the implementation before), ``"threaded"``
+    is for a real control loop only (not reproducible).
     Raises :class:`~socialnav.core.errors.ConfigurationError` for an unknown preset or field.
     """
 
@@ -48,8 +51,8 @@ class StackController:
         record: bool = False,
         params: LocalPlannerParams | Mapping[str, Any] | None = None,
         recovery: RecoveryParams | Mapping[str, Any] | None = None,
-        global_search: str = "scipy",
-        replan_mode: str = "inline",
+        global_search: str = "compiled",
+        replan_mode: str = "deferred",
         replan_delay: int = 2,
     ) -> None:
         self.preset_spec = PRESETS.get(preset)

@@ -29,16 +29,25 @@ def plot_context(
     frame: int | None = None,
     walls: FloatArray | None = None,
     title: str = "",
+    robot_poses: FloatArray | None = None,
 ) -> Figure:
-    """Figure of ``estimates`` (one per frame); the scene is drawn at ``frame`` (default: the
-    frame with the most structures, then the highest total confidence), zoomed on the people.
-    Raises ``ValueError`` with no estimates."""
+    """Figure of ``estimates`` (one per frame); the scene is drawn at ``frame`` (default:
+    the frame with the most structures of confidence ≥ 0.5, then their highest total
+    confidence), zoomed on the people and the robot.
+
+    ``robot_poses (T, 3)`` (x, y, yaw; m, rad, world frame), one per estimate, draws the robot
+    at the frame (a recording has none). The legend lists only the kinds that occur.
+    Raises ``ValueError`` with no estimates, or robot poses of another length."""
     if not estimates:
         raise ValueError("no estimates to draw")
     if frame is None:
-        key = [(len(e.structures), sum(s.confidence for s in e.structures)) for e in estimates]
+        # confident structures first: a track fading out beside its successor is not a scene
+        conf = [[s.confidence for s in e.structures if s.confidence >= 0.5] for e in estimates]
+        key = [(len(c), sum(c)) for c in conf]
         frame = max(range(len(key)), key=lambda i: key[i])
     est = estimates[frame]
+    if robot_poses is not None and len(robot_poses) != len(estimates):
+        raise ValueError(f"{len(robot_poses)} robot poses for {len(estimates)} estimates")
     fig = Figure(figsize=(11, 5), layout="constrained")
     ax, ax_t = fig.subplots(1, 2, width_ratios=(1.1, 1))
     if walls is not None:
@@ -55,6 +64,7 @@ def plot_context(
         c = np.asarray(art.center)
         ends = np.stack([c - 0.5 * art.width * t, c + 0.5 * art.width * t])
         ax.plot(ends[:, 0], ends[:, 1], color=KIND_COLORS["viewers"], lw=4, alpha=0.5)
+    labels: list[FloatArray] = []  # anchors of the labels placed so far
     for s in est.structures:
         color = KIND_COLORS.get(s.kind, "k")
         pts = np.array([people[m].position for m in s.members if m in people]).reshape(-1, 2)
@@ -74,16 +84,27 @@ def plot_context(
                         at = people[v].position
                         ax.plot([at[0], art.center[0]], [at[1], art.center[1]], ":", color=color)
         if pts.size:
+            anchor = pts.mean(axis=0)
+            # structures sharing members have nearby centres: stack their labels
+            near = sum(1 for a in labels if np.hypot(*(a - anchor)) < 0.8)
+            labels.append(anchor)
             ax.annotate(
                 f"{s.kind} {s.confidence:.2f}",
-                pts.mean(axis=0),
+                anchor,
                 fontsize=7,
                 color=color,
-                xytext=(4, 4),
+                xytext=(4, 4 + 9 * near),
                 textcoords="offset points",
             )
-    if people:
-        xy = np.array([p.position for p in people.values()])
+    if robot_poses is not None:
+        rx, ry, ryaw = (float(v) for v in robot_poses[frame])
+        ax.plot(rx, ry, "^", color="tab:red", ms=9, zorder=4, label="robot")
+        ax.plot([rx, rx + 0.5 * np.cos(ryaw)], [ry, ry + 0.5 * np.sin(ryaw)], color="tab:red")
+    shown = [p.position for p in people.values()]
+    if robot_poses is not None:
+        shown.append(tuple(robot_poses[frame][:2]))
+    if shown:
+        xy = np.array(shown, dtype=float)
         lo, hi = xy.min(axis=0) - 2.0, xy.max(axis=0) + 2.0
         ax.set_xlim(lo[0], hi[0])
         ax.set_ylim(lo[1], hi[1])
@@ -99,11 +120,18 @@ def plot_context(
             cs.append(s.confidence)
     for kind, ts, cs in series.values():
         ax_t.plot(ts, cs, ".", ms=2, color=KIND_COLORS.get(kind, "k"))
+    seen = {kind for kind, _, _ in series.values()}
     for kind, color in KIND_COLORS.items():
-        ax_t.plot([], [], "-", color=color, label=kind)
+        if kind in seen:
+            ax_t.plot([], [], "-", color=color, label=kind)
     ax_t.axvline(est.time, color="0.6", lw=0.8)
     ax_t.set_ylim(0, 1.05)
     ax_t.set_xlabel("time (s)")
     ax_t.set_ylabel("confidence (active structures)")
-    ax_t.legend(loc="lower right", fontsize=8)
+    if seen:
+        ax_t.legend(loc="lower right", fontsize=8)
+    else:
+        ax_t.text(0.5, 0.5, "no structure found", ha="center", transform=ax_t.transAxes)
+    if robot_poses is not None:
+        ax.legend(loc="upper right", fontsize=8)
     return fig

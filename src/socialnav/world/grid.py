@@ -7,6 +7,7 @@ image row flip), ``origin`` is the world position of the lower-left corner of ce
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -50,6 +51,11 @@ class GridGeometry:
     def world_to_cell(self, xy: ArrayLike) -> NDArray[np.intp]:
         """``(..., 2)`` world points → ``(..., 2)`` integer ``(row, col)`` (maybe off-grid)."""
         p = np.asarray(xy, dtype=float)
+        if p.shape == (2,):  # one point (the per-cycle boxes): Python floats, the same values
+            fc = (float(p[0]) - float(self.origin[0])) / float(self.resolution)
+            fr = (float(p[1]) - float(self.origin[1])) / float(self.resolution)
+            if abs(fc) < 1e15 and abs(fr) < 1e15:  # finite and well inside intp
+                return np.array([math.floor(fr), math.floor(fc)], dtype=np.intp)
         col = np.floor((p[..., 0] - self.origin[0]) / self.resolution).astype(np.intp)
         row = np.floor((p[..., 1] - self.origin[1]) / self.resolution).astype(np.intp)
         return np.stack([row, col], axis=-1)

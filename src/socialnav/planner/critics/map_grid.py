@@ -47,6 +47,9 @@ def densify_path(path: FloatArray, spacing: float) -> FloatArray:
     """Resample a polyline ``(P, 2)`` so consecutive points are at most ``spacing`` apart."""
     if path.shape[0] < 2:
         return path
+    if kernels.enabled() and np.isfinite(path).all() and spacing > 0:  # same values, one pass
+        fast = kernels.densify_path(path, spacing)
+        return fast if fast.shape[0] > 1 else path[:1]  # zero length: the first point
     seg = np.linalg.norm(np.diff(path, axis=0), axis=1)
     s = np.concatenate([[0.0], np.cumsum(seg)])
     if s[-1] <= 0:
@@ -60,6 +63,8 @@ def local_plan_cells(costmap: Costmap, path: FloatArray) -> NDArray[np.intp]:
     plan, in plan order (possibly empty)."""
     path = np.asarray(path, dtype=float).reshape(-1, 2)
     dense = densify_path(path, 0.5 * costmap.resolution)
+    if kernels.enabled() and np.isfinite(dense).all():  # one compiled pass, same cells
+        return kernels.plan_cells(costmap.geometry, costmap.costs, dense, UNKNOWN)
     rc = costmap.geometry.world_to_cell(dense)
     inside = costmap.geometry.in_bounds(rc)
     ok = inside.copy()
@@ -81,6 +86,10 @@ def footprint_cells(ctx: PlanningContext) -> NDArray[np.bool_]:
     geom = ctx.costmap.geometry
     c, s = np.cos(ctx.pose[2]), np.sin(ctx.pose[2])
     poly = ctx.robot.polygon @ np.array([[c, s], [-s, c]]) + ctx.pose[:2]
+    if kernels.enabled() and np.isfinite(poly).all():  # one compiled pass, same values
+        mask = kernels.footprint_mask(geom, poly, ctx.pose[:2])
+        ctx.cache.footprint_cells = mask
+        return mask
     lo = geom.world_to_cell(poly.min(axis=0))
     hi = geom.world_to_cell(poly.max(axis=0))
     r0, r1 = max(lo[0], 0), min(hi[0] + 1, geom.shape[0])
@@ -145,6 +154,9 @@ class GridGraph:
         self.passable = passable
         self._w, self._n, self._base, self._indptr, self._ones = _grid_topology(rows, cols)
         self._idx_cache: NDArray[np.int32] | None = None  # built on the reference path only
+        # The compiled flood's padded state for one settle region (shared by the cycle's grids).
+        self._flood_state: tuple[tuple[slice, slice] | None, tuple[NDArray[np.uint8], int]] | None
+        self._flood_state = None
 
     @property
     def _idx(self) -> NDArray[np.int32]:
@@ -177,8 +189,10 @@ class GridGraph:
         see :func:`bfs_distance`."""
         passable, n, w = self.passable, self._n, self._w
         seeds = np.asarray(seeds, dtype=np.intp).reshape(-1, 2)
-        if kernels.enabled():  # one compiled flood: exact everywhere, identical in ``settle``
-            return kernels.bfs_distance(passable, seeds)
+        if kernels.enabled():  # one compiled flood, identical in ``settle``, stops once it is
+            if self._flood_state is None or self._flood_state[0] != settle:
+                self._flood_state = (settle, kernels.bfs_state(passable, settle))
+            return kernels.bfs_distance(passable, seeds, settle, self._flood_state[1])
         dist = np.full(passable.shape, np.inf, dtype=np.float32)
         if seeds.shape[0] == 0:
             return dist

@@ -45,6 +45,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import lru_cache
 from typing import TYPE_CHECKING, ClassVar
 
 import numpy as np
@@ -261,22 +262,48 @@ def _never_closer(ctx: PlanningContext, poses: FloatArray, footprint: bool) -> N
     return ok
 
 
+@lru_cache(maxsize=16)
+def _sorted_outline(polygon: bytes, vertices: int, res: float) -> tuple[FloatArray, FloatArray]:
+    """The outline at half-cell spacing sorted far first and its radii (cells): it depends on
+    the footprint and the resolution only, so cycles share it (never written to)."""
+    poly = np.frombuffer(polygon, dtype=float).reshape(vertices, 2)
+    outline = footprint_outline(poly, 0.5 * res)
+    rho = np.hypot(outline[:, 0], outline[:, 1]) / res  # cells
+    order = np.argsort(-rho, kind="stable")
+    return outline[order], rho[order]
+
+
 def _prepare_outline(ctx: PlanningContext) -> None:
     """The body-frame outline sorted by distance from the centre (far first) and the padded
     hit-code map: 0 free, 1 LETHAL, 2 UNKNOWN or off the map."""
     res = ctx.costmap.resolution
-    outline = footprint_outline(ctx.robot.polygon, 0.5 * res)
-    rho = np.hypot(outline[:, 0], outline[:, 1]) / res  # cells
-    order = np.argsort(-rho, kind="stable")
-    ctx.cache.occupancy_outline = outline[order]
-    ctx.cache.occupancy_outline_rho = rho[order]
+    polygon = np.ascontiguousarray(ctx.robot.polygon, dtype=float)
+    outline, rho = _sorted_outline(polygon.tobytes(), polygon.shape[0], float(res))
+    ctx.cache.occupancy_outline = outline
+    ctx.cache.occupancy_outline_rho = rho
     # Checked poses have their centre on the map, so every outline point lies within the
     # circumscribed radius of the map: a border that wide replaces clipping and the in-map test.
     pad = math.ceil(float(rho.max(initial=0.0))) + 2
     costs = ctx.costmap.costs
-    # LETHAL (254) → 1, UNKNOWN (255) → 2, anything lower → 0
-    codes = np.pad(np.maximum(costs, INSCRIBED) - np.uint8(INSCRIBED), pad, constant_values=_UNSEEN)
+    rows, cols = costs.shape
+    # LETHAL (254) → 1, UNKNOWN (255) → 2, anything lower → 0; the border reads UNKNOWN.
+    codes = np.full((rows + 2 * pad, cols + 2 * pad), _UNSEEN, dtype=np.uint8)
+    inner = codes[pad : pad + rows, pad : pad + cols]
+    np.subtract(np.maximum(costs, np.uint8(INSCRIBED)), np.uint8(INSCRIBED), out=inner)
     ctx.cache.occupancy_codes = (codes, pad)
+
+
+@lru_cache(maxsize=16)
+def _outline_need(rho: bytes, e: int) -> NDArray[np.intp]:
+    """``need (L,)``: outline points (of the sorted radii ``rho``, cells) a pose at each
+    clearance level (1/16 cell, up to ``e + 1`` cells) must check; shared, never written to."""
+    radii = np.frombuffer(rho, dtype=float)
+    step = 1.0 / 16.0
+    levels = np.arange((e + 1) * 16 + 1) * step
+    need = np.count_nonzero(
+        radii[None, :] >= (levels - math.sqrt(2.0) - _CLEARANCE_MARGIN)[:, None], axis=1
+    ).astype(np.intp)
+    return need
 
 
 def _prepare_clearance(ctx: PlanningContext) -> None:
@@ -306,25 +333,26 @@ def _prepare_clearance(ctx: PlanningContext) -> None:
     if r0 < r1 and c0 < c1:
         a0, a1 = max(r0 - e, 0), min(r1 + e, rows)
         b0, b1 = max(c0 - e, 0), min(c1 + e, cols)
-        free = ctx.costmap.costs[a0:a1, b0:b1] < LETHAL
         # A ring of hard cells where the window meets the map edge: off-map counts as hard.
         edges = ((int(a0 == 0), int(a1 == rows)), (int(b0 == 0), int(b1 == cols)))
-        free = np.pad(free, edges, constant_values=False)
+        free = np.zeros((a1 - a0 + sum(edges[0]), b1 - b0 + sum(edges[1])), dtype=bool)
+        inner = free[
+            edges[0][0] : free.shape[0] - edges[0][1], edges[1][0] : free.shape[1] - edges[1][1]
+        ]
+        np.less(ctx.costmap.costs[a0:a1, b0:b1], LETHAL, out=inner)
+        i0, j0 = r0 - a0 + edges[0][0], c0 - b0 + edges[1][0]
         if free.all():  # no hard cell in reach (the transform needs one)
-            dist = np.full(free.shape, float(e + 1))
+            clear[r0:r1, c0:c1] = np.floor(float(e + 1) * (1.0 / step))
+        elif kernels.enabled():  # exact transform and levels in one compiled pass
+            kernels.clearance_levels(free, float(e + 1), i0, j0, clear[r0:r1, c0:c1])
         else:
             dist = np.minimum(distance_transform_edt(free), float(e + 1))
-        i0, j0 = r0 - a0 + edges[0][0], c0 - b0 + edges[1][0]
-        box = dist[i0 : i0 + r1 - r0, j0 : j0 + c1 - c0]
-        clear[r0:r1, c0:c1] = np.floor(box * (1.0 / step))
+            box = dist[i0 : i0 + r1 - r0, j0 : j0 + c1 - c0]
+            clear[r0:r1, c0:c1] = np.floor(box * (1.0 / step))
     # Points with rho >= D - √2 - margin may hit; rho is sorted descending. Rounding D down to
     # a level checks more points: still exact.
-    levels = np.arange((e + 1) * 16 + 1) * step
-    need = np.count_nonzero(
-        rho[None, :] >= (levels - math.sqrt(2.0) - _CLEARANCE_MARGIN)[:, None], axis=1
-    )
     ctx.cache.occupancy_clearance = clear
-    ctx.cache.occupancy_need = need.astype(np.intp)
+    ctx.cache.occupancy_need = _outline_need(np.ascontiguousarray(rho, dtype=float).tobytes(), e)
 
 
 def _outline(ctx: PlanningContext) -> tuple[FloatArray, FloatArray, NDArray[np.uint8], int]:

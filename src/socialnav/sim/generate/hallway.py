@@ -10,19 +10,31 @@ Feasibility facts per robot model (the robot drives along the corridor, so its f
 half width ``w`` limits it to ``|y| <= W/2 − w − 0.05``):
 - ``max_clearance_<id>``: the largest centre-to-centre distance from person ``id`` the corridor
   allows while passing (for a side-by-side pair, on the side that is best for both);
-- ``passage``: a gap of at least the robot's width + 0.1 m exists beside every unit.
-No passage for some robot → the scene is drawn again. A clearance below the 1.2 m personal
-space (+0.05 m) marks ``no_personal_space_intrusion`` not required for that robot, with the
-reason.
+- ``passage``: a gap of at least the robot's width + 0.1 m exists beside every unit;
+- ``joint_clearance``: the largest distance from *every* person at once that a path to the goal
+  can keep, walkers' timing included (:func:`~socialnav.sim.generate._passage.joint_clearance`):
+  two walkers passing the robot together on both sides leave less than either one alone;
+- ``collision_free``: some command sequence within the robot's velocity and acceleration
+  limits avoids every walker (:func:`~socialnav.sim.generate._passage.can_avoid_collision`:
+  a walker overtaking from right behind, faster than the robot can step aside, hits it).
+No passage or no collision-free way for some robot → the scene is drawn again. A joint
+clearance below the 1.2 m personal space (+0.05 m) marks ``no_personal_space_intrusion`` not
+required for that robot, with the reason (the per-person bound assumes the robot passes each
+person, which a walker behind it that never catches up disproves).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
+from socialnav.core.robot import RobotModel
+from socialnav.core.scene import HUMAN_RADIUS
+from socialnav.sim.generate._passage import can_avoid_collision, joint_clearance
 from socialnav.sim.generate.common import (
     GENERATORS,
+    POSITION_TOLERANCE,
     ROBOTS,
+    FreeSpace,
     Generator,
     Infeasible,
     half_width,
@@ -43,6 +55,7 @@ PAIR_GAP = (0.6, 0.8)
 START_X = 3.0
 WALL_MARGIN = 0.4  # person centre to wall (m): radius 0.25 + a shoulder's room
 CLEARANCE_MARGIN = 0.05
+JOINT_CAP = 3.0  # m: clearances beyond this are reported as this
 
 
 def draw(rng: np.random.Generator, name: str) -> Scenario:
@@ -95,10 +108,22 @@ def draw(rng: np.random.Generator, name: str) -> Scenario:
         ((0.0, -half), (0.0, half)),
         ((length, -half), (length, half)),
     ]
+    scn = Scenario(
+        name=name,
+        family="hallway",
+        description=f"generated hallway: width {width:.2f} m, {len(people)} people",
+        map={"walls": walls},
+        start=start,
+        goal=goal,
+        goal_tolerance=POSITION_TOLERANCE,
+        people=people,
+        time_limit=time_limit_for(goal[0] - start[0]),
+    )
     feasibility: dict[str, dict[str, float | bool | str]] = {}
     per_robot: dict[str, dict[str, RobotSuccessOverride]] = {}
     for robot_name in ROBOTS:
-        w = half_width(robot_model(robot_name))
+        robot = robot_model(robot_name)
+        w = half_width(robot)
         y_lim = half - w - CLEARANCE_MARGIN
         facts: dict[str, float | bool | str] = {"corridor_width": r3(width)}
         worst = np.inf
@@ -114,31 +139,44 @@ def draw(rng: np.random.Generator, name: str) -> Scenario:
                 k += 1
             worst = min(worst, best)
         facts["passage"] = True
-        if np.isfinite(worst) and worst < PERSONAL + CLEARANCE_MARGIN:
+        joint = _joint(scn, robot, y_lim)
+        if joint < HUMAN_RADIUS + robot.inscribed_radius or not can_avoid_collision(scn, robot):
+            raise Infeasible(f"{robot_name}: no collision-free way past the people")
+        facts["collision_free"] = True
+        facts["joint_clearance"] = r3(min(joint, JOINT_CAP))
+        # The joint clearance decides: a per-person bound assumes the robot passes that
+        # person, which it need not (a slow walker behind it never catches up).
+        if joint < PERSONAL + CLEARANCE_MARGIN:
             facts["personal_space_feasible"] = False
-            per_robot[robot_name] = {
-                "no_personal_space_intrusion": RobotSuccessOverride(
-                    required=False,
-                    reason=f"the corridor allows at most {worst:.2f} m from a person "
-                    f"(< {PERSONAL} m) for {robot_name}",
-                )
-            }
+            binding = (
+                f"the corridor allows at most {worst:.2f} m from a person"
+                if worst < PERSONAL + CLEARANCE_MARGIN
+                else f"no way keeps {PERSONAL} m from every person at once (people pass "
+                f"at the same time): at most {joint:.2f} m"
+            )
+            reason = f"{binding} (< {PERSONAL} m + {CLEARANCE_MARGIN} m) for {robot_name}"
         else:
             facts["personal_space_feasible"] = True
+            reason = ""
+        if reason:
+            per_robot[robot_name] = {
+                "no_personal_space_intrusion": RobotSuccessOverride(required=False, reason=reason)
+            }
         feasibility[robot_name] = facts
-    return Scenario(
-        name=name,
-        family="hallway",
-        description=f"generated hallway: width {width:.2f} m, {len(people)} people",
-        map={"walls": walls},
-        start=start,
-        goal=goal,
-        goal_tolerance=0.1,
-        people=people,
-        time_limit=time_limit_for(goal[0] - start[0]),
-        success=success_options("hallway", False, per_robot),
-        feasibility=feasibility,
+    return scn.model_copy(
+        update={
+            "success": success_options("hallway", False, per_robot),
+            "feasibility": feasibility,
+        }
     )
+
+
+def _joint(scn: Scenario, robot: RobotModel, y_lim: float) -> float:
+    """Joint clearance (m) with the robot centre inside the corridor's ``|y| <= y_lim``."""
+    space = FreeSpace(scn, robot, people=False)
+    xs, ys = space.geometry.cell_centers()
+    free = space.free & (np.abs(ys) <= y_lim + space.geometry.resolution / 2)
+    return joint_clearance(scn, robot, free, xs, ys, cap=JOINT_CAP)
 
 
 GENERATORS.add("hallway", Generator("hallway", __doc__ or "", draw))

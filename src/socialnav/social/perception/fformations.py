@@ -25,6 +25,22 @@ F-formations"); the o-space is Kendon's (Conducting Interaction, 1990).
    (:func:`facility_location`), fast enough for every control cycle. Centres are re-estimated
    from their members (the weighted least-squares point of the anisotropic costs) and steps
    2–3 repeat until the labelling is stable (GCFF's outer loop), at most ``iterations`` times.
+4. **Wide circles** (:func:`merge_wide`). A fixed stride makes every member's vote land ``D``
+   ahead of them, so a circle much wider than ``D`` (five or more people on a 1.2–1.5 m circle)
+   is cheaper as two groups, each with its centre nearer its members. Kendon's o-space grows
+   with the group (its members keep their spacing), so this step re-prices the labelling with
+   each group's *own* stride: the centre and stride ``D ∈ [stride, max_stride]`` minimising
+   the members' costs (a 3-unknown weighted least squares). Two labels (groups or people
+   alone) are merged, best saving first, while the union with its fitted stride costs less
+   (members' costs, occlusion by the rest of the component, one ``mdl``) than the two apart,
+   each priced with its own fitted stride too. A union is considered only when it has three or
+   more members, its fitted stride exceeds ``stride`` (otherwise GCFF's own solve already
+   priced it), its members surround the centre (no angular gap between neighbours, seen from
+   it, wider than π + ``heading_tolerance``: the o-space is enclosed by the p-space) and every
+   member faces it within ``merge_facing``. ``max_stride <= stride`` turns the step off
+   (GCFF as published). Two people alone are never merged into a pair here, so a pair or a
+   triple whose members are all left alone by GCFF (members more than ~2.3 m apart) stays
+   undetected.
 
 Parameters (metres, radians; defaults fitted on the Cristani et al. *Synth* data only, see
 ``benchmarks/bench_context.py --fit``): ``stride`` D, ``sigma`` σ, ``sigma_along``, ``mdl``,
@@ -34,8 +50,14 @@ grid search maximising the mean of F1 at T = 2/3 and T = 1 on Synth, among
 not split); ``heading_tolerance`` (15°) was fitted last, the others held at their earlier fit.
 A person joins a centre whose vote lies within ``σ·√mdl`` (0.5 m) across or
 ``sigma_along·√mdl`` (1.5 m) along the gaze. The dataset's own settings give a 0.6 m stride
-for the original method. ``reuse_distance`` and ``reuse_angle``: see
-:class:`FFormationDetector` (incremental solving across control cycles).
+for the original method. ``max_stride`` (2 m) is the widest circle the project's group
+scenarios use (radius 0.5–2 m, :mod:`socialnav.social.plausibility` admits up to 2.5 m);
+``merge_facing`` (20°) is two standard deviations of the 10° heading noise of the simulator's
+default perception model (:class:`socialnav.sim.perception.PerceptionNoise`), set a priori:
+Synth scores the same for any value from 15° to 30° (it has no circle wider than the stride),
+and on generated circles 25° joins one more of 105 (``bench_context.py``). ``reuse_distance``
+and ``reuse_angle``: see :class:`FFormationDetector` (incremental solving across control
+cycles).
 
 Output: groups of at least two members with o-space centre (the fitted centre), radius (the mean
 member distance to it) and a score ``1 − mean cost / mdl`` in [0, 1]: the margin by which
@@ -44,7 +66,7 @@ joining beats standing alone (1: every vote on the centre; 0: no better than alo
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -76,6 +98,8 @@ class FFormationParams:
     occlusion_radius: float = 0.25
     heading_tolerance: float = float(np.radians(15.0))
     iterations: int = 10
+    max_stride: float = 2.0
+    merge_facing: float = float(np.radians(20.0))
     standing_speed: float = STANDING_SPEED
     reuse_distance: float = 0.02
     reuse_angle: float = float(np.radians(3.0))
@@ -239,20 +263,125 @@ def gcff(positions: FloatArray, yaws: FloatArray, params: FFormationParams) -> l
     for c in np.unique(comp):
         idx = np.flatnonzero(comp == c)
         if idx.size >= 2:
-            out += [idx[g] for g in _gcff(positions[idx], yaws[idx], params)]
+            out += [idx[g] for g, _ in _gcff(positions[idx], yaws[idx], params)]
     return sorted(out, key=lambda g: int(g[0]))
 
 
-def _gcff(positions: FloatArray, yaws: FloatArray, params: FFormationParams) -> list[np.ndarray]:
-    """Groups of one component: the compiled solve (:mod:`.gcff_kernel`) or the reference."""
+def _gcff(
+    positions: FloatArray, yaws: FloatArray, params: FFormationParams
+) -> list[tuple[np.ndarray, float]]:
+    """Groups of one component with their strides (m): the compiled solve
+    (:mod:`.gcff_kernel`) or the reference, then :func:`merge_wide`."""
     if gcff_kernel.enabled():
-        labels = gcff_kernel.solve_component(
-            positions, yaws, kernel_params(params), params.iterations
-        )
+        kp = kernel_params(params)
+        labels = gcff_kernel.solve_component(positions, yaws, kp, params.iterations)
+        labels, fitted = gcff_kernel.merge_wide(positions, yaws, labels, kp)
+        strides = {int(u): float(d) for u, d in enumerate(fitted) if np.isfinite(d)}
     else:
         labels = _labels_reference(positions, yaws, params)
-    groups = [np.flatnonzero(labels == u) for u in np.unique(labels)]
-    return [g for g in groups if g.size >= 2]
+        labels, strides = merge_wide(positions, yaws, labels, params)
+    out = []
+    for u in np.unique(labels):
+        g = np.flatnonzero(labels == u)
+        if g.size >= 2:
+            out.append((g, strides.get(int(u), params.stride)))
+    return out
+
+
+def fitted_stride(
+    positions: FloatArray, yaws: FloatArray, params: FFormationParams
+) -> tuple[FloatArray, float]:
+    """O-space centre ``(2,)`` and stride ``D`` (m) of one group ``(K, 2)``, ``K >= 2``: the
+    weighted least-squares point of :func:`_centre` with ``D`` a third unknown, clipped to
+    ``[stride, max_stride]`` (the centre then solved again with ``D`` fixed); the gazes are
+    attended towards the last solution, as in :func:`_centre`."""
+    p = params
+    center = _centre(positions, yaws, p)
+    stride = p.stride
+    eye = np.eye(2)
+    for _ in range(1 if p.heading_tolerance <= 0.0 else 4):
+        u = attended_gaze(positions, yaws, center[None], p.heading_tolerance)[:, 0, :]
+        outer = u[:, :, None] * u[:, None, :]
+        a = (eye - outer) / p.sigma**2 + outer / p.sigma_along**2  # (K, 2, 2)
+        # residual c − p_k − D u_k, linear in (c, D): normal equations of the 3 unknowns
+        au = np.einsum("kij,kj->ki", a, u)  # (K, 2)
+        m = np.zeros((3, 3))
+        m[:2, :2] = a.sum(0)
+        m[:2, 2] = m[2, :2] = -au.sum(0)
+        m[2, 2] = (au * u).sum()
+        ap = np.einsum("kij,kj->ki", a, positions)
+        b = np.concatenate([ap.sum(0), [-(ap * u).sum()]])
+        if abs(np.linalg.det(m)) < 1e-12:  # parallel gazes: no common centre
+            break
+        x = np.linalg.solve(m, b)
+        stride = float(np.clip(x[2], p.stride, max(p.max_stride, p.stride)))
+        # a clipped stride: the centre solved again with that stride fixed
+        fixed = replace(p, stride=stride)
+        center = x[:2] if stride == x[2] else _centre(positions, yaws, fixed)
+    return center, stride
+
+
+def _encloses(positions: FloatArray, center: FloatArray, slack: float) -> bool:
+    """Whether the people ``(K, 2)`` surround ``center``: no angular gap between neighbours,
+    seen from it, wider than π + ``slack`` (rad)."""
+    rel = positions - center
+    a = np.sort(np.arctan2(rel[:, 1], rel[:, 0]))
+    return bool(np.diff(np.append(a, a[0] + 2 * np.pi)).max() <= np.pi + slack)
+
+
+def _label_energy(
+    positions: FloatArray, yaws: FloatArray, members: np.ndarray, params: FFormationParams
+) -> tuple[float, FloatArray | None, float]:
+    """(energy, centre, stride) of one label with its fitted stride: ``mdl`` alone; else the
+    members' costs of joining the fitted centre (occlusion by everyone in ``positions``) plus
+    ``mdl``."""
+    if members.size < 2:
+        return params.mdl, None, params.stride
+    center, stride = fitted_stride(positions[members], yaws[members], params)
+    costs = assignment_costs(positions, yaws, center[None], replace(params, stride=stride))
+    return float(costs[members, 0].sum()) + params.mdl, center, stride
+
+
+def merge_wide(
+    positions: FloatArray, yaws: FloatArray, labels: np.ndarray, params: FFormationParams
+) -> tuple[np.ndarray, dict[int, float]]:
+    """Step 4 of the module docstring on one component: labels ``(K,)`` with wide circles
+    merged (each merged label keeps its smallest original number), and the fitted stride (m)
+    of every merged label. Unchanged when ``max_stride <= stride``."""
+    p = params
+    labels = np.asarray(labels).copy()
+    strides: dict[int, float] = {}
+    if p.max_stride <= p.stride:
+        return labels, strides
+    while True:
+        used = [int(u) for u in np.unique(labels)]
+        if len(used) < 2:
+            return labels, strides
+        members = {u: np.flatnonzero(labels == u) for u in used}
+        alone = {u: _label_energy(positions, yaws, members[u], p)[0] for u in used}
+        best: tuple[float, int, int, float] | None = None
+        for i, a in enumerate(used):
+            for b in used[i + 1 :]:
+                union = np.union1d(members[a], members[b])
+                if union.size < 3:
+                    continue
+                energy, center, stride = _label_energy(positions, yaws, union, p)
+                saving = alone[a] + alone[b] - energy
+                if center is None or stride <= p.stride * (1 + 1e-9) or saving <= 1e-9:
+                    continue
+                if best is not None and saving <= best[0]:
+                    continue
+                rel = center - positions[union]
+                off = np.arctan2(rel[:, 1], rel[:, 0]) - yaws[union]
+                facing = np.abs(np.arctan2(np.sin(off), np.cos(off))).max() <= p.merge_facing
+                if facing and _encloses(positions[union], center, p.heading_tolerance):
+                    best = (saving, a, b, stride)
+        if best is None:
+            return labels, strides
+        _, a, b, stride = best
+        labels[labels == b] = a
+        strides.pop(b, None)
+        strides[a] = stride
 
 
 def kernel_params(p: FFormationParams) -> FloatArray:
@@ -266,6 +395,8 @@ def kernel_params(p: FFormationParams) -> FloatArray:
             p.occlusion_cost,
             p.occlusion_radius,
             p.heading_tolerance,
+            p.max_stride,
+            p.merge_facing,
         ]
     )
 
@@ -365,14 +496,14 @@ class FFormationDetector(ParamDetector[FFormationParams]):
 
     def _solve(self, ids: np.ndarray, pos: FloatArray, yaw: FloatArray) -> list[Candidate]:
         out = []
-        for g in _gcff(pos, yaw, self.params):
+        for g, stride in _gcff(pos, yaw, self.params):
+            # a merged wide circle is scored with its own stride (step 4), others with GCFF's
+            p = self.params if stride == self.params.stride else replace(self.params, stride=stride)
             if gcff_kernel.enabled():
-                center, cost = gcff_kernel.centre_and_costs(
-                    pos[g], yaw[g], kernel_params(self.params)
-                )
+                center, cost = gcff_kernel.centre_and_costs(pos[g], yaw[g], kernel_params(p))
             else:
-                center = _centre(pos[g], yaw[g], self.params)
-                cost = assignment_costs(pos[g], yaw[g], center[None], self.params)[:, 0]
+                center = _centre(pos[g], yaw[g], p)
+                cost = assignment_costs(pos[g], yaw[g], center[None], p)[:, 0]
             radius = float(np.linalg.norm(pos[g] - center, axis=1).mean())
             out.append(
                 Candidate(

@@ -4,7 +4,8 @@ One connected component of standing people (a handful of them) is solved by ~10 
 calls per outer iteration in the reference; each costs microseconds of interpreter overhead
 that dwarf the arithmetic. This kernel runs the same steps in the same order — votes, local
 means, anisotropic costs with the attended gaze and the occlusion term, the add/drop/swap
-facility-location search, canonical relabelling, least-squares centres — in one compiled call.
+facility-location search, canonical relabelling, least-squares centres — in one compiled call;
+:func:`merge_wide` likewise runs the wide-circle merge (step 4 of :mod:`.fformations`).
 Sums may be taken in a different order than NumPy's pairwise sums and the 2×2 centre solve is
 written out, so centres can differ in the last bits; labels then differ only where joining
 a group and standing alone cost the same to ~1e-9. The parity tests in
@@ -261,6 +262,144 @@ def _solve(pos, yaw, p, iterations, max_moves):  # type: ignore[no-untyped-def]
     return labels
 
 
+@_jit
+def _fitted_stride(pos, yaw, members, p):  # type: ignore[no-untyped-def]
+    """:func:`socialnav.social.perception.fformations.fitted_stride` of ``pos[members]``."""
+    stride, sigma, sigma_along, tol, max_stride = p[0], p[1], p[2], p[6], p[7]
+    cx, cy = _centre(pos, yaw, members, p)
+    d = stride
+    w_across = 1.0 / sigma**2
+    w_along = 1.0 / sigma_along**2
+    for _ in range(1 if tol <= 0.0 else 4):
+        m = np.zeros((3, 3))
+        b = np.zeros(3)
+        for k in members:
+            ux, uy = _gaze(pos[k, 0], pos[k, 1], yaw[k], cx, cy, tol)
+            a00 = (1.0 - ux * ux) * w_across + ux * ux * w_along
+            a01 = -ux * uy * w_across + ux * uy * w_along
+            a11 = (1.0 - uy * uy) * w_across + uy * uy * w_along
+            au0 = a00 * ux + a01 * uy
+            au1 = a01 * ux + a11 * uy
+            ap0 = a00 * pos[k, 0] + a01 * pos[k, 1]
+            ap1 = a01 * pos[k, 0] + a11 * pos[k, 1]
+            m[0, 0] += a00
+            m[0, 1] += a01
+            m[1, 0] += a01
+            m[1, 1] += a11
+            m[0, 2] -= au0
+            m[1, 2] -= au1
+            m[2, 2] += au0 * ux + au1 * uy
+            b[0] += ap0
+            b[1] += ap1
+            b[2] -= ap0 * ux + ap1 * uy
+        m[2, 0] = m[0, 2]
+        m[2, 1] = m[1, 2]
+        if abs(np.linalg.det(m)) < 1e-12:
+            break
+        x = np.linalg.solve(m, b)
+        d = min(max(x[2], stride), max(max_stride, stride))
+        if d == x[2]:
+            cx, cy = x[0], x[1]
+        else:
+            q = p.copy()
+            q[0] = d
+            cx, cy = _centre(pos, yaw, members, q)
+    return cx, cy, d
+
+
+@_jit
+def _label_energy(pos, yaw, members, p):  # type: ignore[no-untyped-def]
+    """(energy, centre x, centre y, stride) of one label with its fitted stride."""
+    if members.size < 2:
+        return p[3], np.nan, np.nan, p[0]
+    cx, cy, d = _fitted_stride(pos, yaw, members, p)
+    q = p.copy()
+    q[0] = d
+    center = np.empty((1, 2))
+    center[0, 0] = cx
+    center[0, 1] = cy
+    costs = np.empty((pos.shape[0], 1))
+    _costs(pos, yaw, center, q, costs)
+    total = 0.0
+    for k in members:
+        total += costs[k, 0]
+    return total + p[3], cx, cy, d
+
+
+@_jit
+def _merge_wide(pos, yaw, labels, p):  # type: ignore[no-untyped-def]
+    """:func:`socialnav.social.perception.fformations.merge_wide`: labels and the fitted
+    stride of every label (NaN where not merged)."""
+    stride, tol, facing_max = p[0], p[6], p[8]
+    labels = labels.copy()
+    k = labels.size
+    strides = np.full(k + 1, np.nan)
+    if p[7] <= stride:
+        return labels, strides
+    while True:
+        used = np.unique(labels)
+        n = used.size
+        if n < 2:
+            return labels, strides
+        alone = np.empty(n)
+        for i in range(n):
+            alone[i] = _label_energy(pos, yaw, np.flatnonzero(labels == used[i]), p)[0]
+        best_saving, best_a, best_b, best_d = 0.0, -1, -1, 0.0
+        for i in range(n):
+            for j in range(i + 1, n):
+                union = np.flatnonzero((labels == used[i]) | (labels == used[j]))
+                if union.size < 3:
+                    continue
+                energy, cx, cy, d = _label_energy(pos, yaw, union, p)
+                saving = alone[i] + alone[j] - energy
+                if d <= stride * (1 + 1e-9) or saving <= 1e-9:
+                    continue
+                if best_a >= 0 and saving <= best_saving:
+                    continue
+                ok = True
+                angles = np.empty(union.size)
+                for t in range(union.size):
+                    m = union[t]
+                    a = np.arctan2(cy - pos[m, 1], cx - pos[m, 0])
+                    off = a - yaw[m]
+                    if abs(np.arctan2(np.sin(off), np.cos(off))) > facing_max:
+                        ok = False
+                        break
+                    angles[t] = np.arctan2(pos[m, 1] - cy, pos[m, 0] - cx)
+                if not ok:
+                    continue
+                angles.sort()
+                gap = angles[0] + 2 * np.pi - angles[-1]
+                for t in range(1, union.size):
+                    gap = max(gap, angles[t] - angles[t - 1])
+                if gap <= np.pi + tol:
+                    best_saving, best_a, best_b, best_d = saving, used[i], used[j], d
+        if best_a < 0:
+            return labels, strides
+        for t in range(k):
+            if labels[t] == best_b:
+                labels[t] = best_a
+        strides[best_b] = np.nan
+        strides[best_a] = best_d
+
+
+def merge_wide(
+    positions: NDArray[np.float64],
+    yaws: NDArray[np.float64],
+    labels: NDArray[np.int64],
+    params: NDArray[np.float64],
+) -> tuple[NDArray[np.int64], NDArray[np.float64]]:
+    """Labels ``(K,)`` (values in ``0..K-1``) after the wide-circle merge and the fitted stride
+    (m) of every label value ``(K + 1,)``, NaN where a label was not merged; ``params`` as in
+    :func:`solve_component` followed by ``max_stride`` and ``merge_facing``."""
+    return _merge_wide(
+        np.ascontiguousarray(positions, dtype=np.float64),
+        np.ascontiguousarray(yaws, dtype=np.float64),
+        np.ascontiguousarray(labels, dtype=np.int64),
+        np.ascontiguousarray(params, dtype=np.float64),
+    )
+
+
 def solve_component(
     positions: NDArray[np.float64],
     yaws: NDArray[np.float64],
@@ -270,7 +409,7 @@ def solve_component(
 ) -> NDArray[np.int64]:
     """Labels ``(K,)`` of one component (positions ``(K, 2)`` m, yaws ``(K,)`` rad);
     ``params``: stride, σ, sigma_along, mdl, occlusion cost, occlusion radius, heading
-    tolerance (the fields of ``FFormationParams``)."""
+    tolerance (the fields of ``FFormationParams``; further entries are ignored)."""
     return _solve(
         np.ascontiguousarray(positions, dtype=np.float64),
         np.ascontiguousarray(yaws, dtype=np.float64),
@@ -311,7 +450,8 @@ def warmup() -> None:
         return
     a = 2 * np.pi * np.arange(3) / 3
     pos = 0.7 * np.column_stack([np.cos(a), np.sin(a)])
-    params = np.array([0.4, 0.1, 0.3, 25.0, 25.0, 0.25, 0.26])
-    solve_component(pos, a + np.pi, params, 10)
+    params = np.array([0.4, 0.1, 0.3, 25.0, 25.0, 0.25, 0.26, 2.0, 0.35])
+    labels = solve_component(pos, a + np.pi, params, 10)
+    merge_wide(pos, a + np.pi, labels, params)
     centre_and_costs(pos, a + np.pi, params)
     _warm = True
