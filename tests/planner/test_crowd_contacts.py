@@ -13,6 +13,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from _planner_helpers import step_pose, world
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from socialnav.core.geometry import body_to_world, signed_distance_to_polygon
 from socialnav.core.robot import PIONEER, PR2, RobotModel
@@ -134,3 +136,58 @@ def test_evasion_judges_closing_only_over_the_next_second():
     assert not planner._approaching(ctx, backing)[0]
     full = InterpersonalCritic(footprint_disc="circumscribed").score(backing, ctx)
     assert full.illegal["person_approach"][0]  # over the whole 3 s it does close on them
+
+
+def _approaches_oracle(trajs, ctx, d2min, contact, speed):
+    """The rule written out over every trajectory and person (no cull): the reference the
+    culled :func:`approaches` must reproduce exactly."""
+    xy, t = trajs.xy, trajs.t
+    forecast = ctx.people_at(t)
+    step = np.diff(xy, axis=1) / np.maximum(np.diff(t), 1e-9)[None, :, None]
+    zero = np.zeros((len(trajs), 1, 2))
+    into, out_of = np.concatenate([zero, step], axis=1), np.concatenate([step, zero], axis=1)
+    out = np.zeros(len(trajs), dtype=bool)
+    for k in range(forecast.shape[1]):
+        rel = forecast[None, :, k] - xy
+        dist = np.sqrt((rel * rel).sum(axis=-1))
+        unit = rel / np.maximum(dist, 1e-9)[..., None]
+        closing = np.maximum((into * unit).sum(axis=-1), (out_of * unit).sum(axis=-1))
+        out |= ((dist < contact[k]) & (closing > speed)).any(axis=1)
+    return out
+
+
+@given(st.integers(0, 2**32 - 1), st.integers(1, 6))
+@settings(max_examples=60, deadline=None)
+def test_the_culled_approach_rule_equals_the_rule_over_every_pair(seed, k):
+    from socialnav.planner.critics.interpersonal import approaches, min_squared_distances
+
+    rng = np.random.default_rng(seed)
+    people = tuple(
+        Person(i, tuple(rng.uniform(-1.5, 1.5, 2)), tuple(rng.uniform(-1.5, 1.5, 2)))
+        for i in range(k)
+    )
+    ctx = _ctx(SocialContext(people))
+    trajs = _lines(rng.uniform(-0.6, 0.6, (40, 2)))
+    contact = ctx.social.radii() + PR2.inscribed_radius
+    d2min = min_squared_distances(trajs, ctx, contact)
+    got = approaches(trajs, ctx, d2min, contact, 0.02)
+    np.testing.assert_array_equal(got, _approaches_oracle(trajs, ctx, d2min, contact, 0.02))
+
+
+@given(st.integers(0, 2**32 - 1), st.integers(1, 8), st.floats(0.3, 2.0))
+@settings(max_examples=60, deadline=None)
+def test_culled_passing_distances_are_exact_within_reach_and_beyond_it_elsewhere(seed, k, r):
+    from socialnav.planner.critics.interpersonal import passing_distances
+
+    rng = np.random.default_rng(seed)
+    people = tuple(
+        Person(i, tuple(rng.uniform(-4.0, 4.0, 2)), tuple(rng.uniform(-1.5, 1.5, 2)))
+        for i in range(k)
+    )
+    ctx = _ctx(SocialContext(people))
+    trajs = _lines(rng.uniform(-0.6, 0.6, (30, 2)))
+    full = passing_distances(trajs, ctx, 2.5)
+    culled = passing_distances(trajs, ctx, 2.5, np.full(k, r))
+    kept = np.isfinite(culled)
+    np.testing.assert_array_equal(culled[kept], full[kept])
+    assert (full[~kept] > r).all()

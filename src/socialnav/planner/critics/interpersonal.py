@@ -137,21 +137,37 @@ def min_squared_distances(
     return d2min
 
 
-def passing_distances(trajs: Trajectories, ctx: PlanningContext, horizon: float) -> FloatArray:
+def passing_distances(
+    trajs: Trajectories, ctx: PlanningContext, horizon: float, reach: FloatArray | None = None
+) -> FloatArray:
     """``(N, K)`` closest distance (m, centres) between each trajectory's end point, where the
     robot is assumed to stop, and each person walking on at constant velocity from their
-    forecast position at the rollout's end for ``horizon`` s (module docstring)."""
+    forecast position at the rollout's end for ``horizon`` s (module docstring).
+
+    With ``reach (K,)`` (m), a person whose walk provably stays farther than ``reach[k]`` from
+    every end point gets ``inf`` (the bound: the gap between the walk's box and the end points'
+    box), as :func:`min_squared_distances` culls."""
     end = trajs.xy[:, -1]  # (N, 2)
     t_end = np.asarray(trajs.t[-1:], dtype=float)
     start = ctx.people_at(t_end)[0]  # (K, 2)
     step = ctx.social.velocities() * horizon  # (K, 2): the walk after the rollout
-    w = end[:, None, :] - start[None]  # (N, K, 2)
-    uu = (step * step).sum(axis=1)  # (K,)
+    out = np.full((end.shape[0], start.shape[0]), np.inf)
+    cols = np.arange(start.shape[0])
+    if reach is not None:
+        lo, hi = end.min(axis=0), end.max(axis=0)
+        seg_lo, seg_hi = np.minimum(start, start + step), np.maximum(start, start + step)
+        gap = np.maximum(lo - seg_hi, 0.0) + np.maximum(seg_lo - hi, 0.0)  # (K, 2)
+        bound = np.sqrt((gap * gap).sum(axis=1))
+        cols = np.flatnonzero(bound <= reach * (1.0 + 1e-9) + 1e-9)
+    start, step = start[cols], step[cols]
+    w = end[:, None, :] - start[None]  # (N, K', 2)
+    uu = (step * step).sum(axis=1)  # (K',)
     with np.errstate(divide="ignore", invalid="ignore"):
         s = np.where(uu > 0, (w * step[None]).sum(axis=-1) / uu, 0.0)
     s = np.clip(s, 0.0, 1.0)
     gap = w - s[..., None] * step[None]
-    return np.sqrt((gap * gap).sum(axis=-1))
+    out[:, cols] = np.sqrt((gap * gap).sum(axis=-1))
+    return out
 
 
 def partner_thresholds(ctx: PlanningContext, threshold: float, margin: float) -> FloatArray:
@@ -265,7 +281,8 @@ class InterpersonalCritic(Critic):
             assert d2min is not None
             d = np.sqrt(d2min)
             if self.hold_horizon > 0 and ctx.predict_people:
-                d = np.minimum(d, passing_distances(trajs, ctx, self.hold_horizon))
+                # beyond the threshold reach the cost is 0 whichever distance is taken
+                d = np.minimum(d, passing_distances(trajs, ctx, self.hold_horizon, reach))
         if self.distance == "edge":
             d = np.maximum(d - radii - robot_r, 0.0)
         if self.partner_distance:
@@ -321,20 +338,25 @@ def approaches(
     """
     n = len(trajs)
     out = np.zeros(n, dtype=bool)
-    near = np.flatnonzero((d2min < contact[None] ** 2).any(axis=0))
+    # Only (trajectory, person) pairs that come within contact can be judged illegal; the
+    # relative margin keeps this cull conservative against rounding in sqrt.
+    reach2 = (contact * (1.0 + 1e-9)) ** 2  # (K,)
+    pairs = d2min < reach2[None]  # (N, K)
+    near = np.flatnonzero(pairs.any(axis=0))
     if near.size == 0 or trajs.t.shape[0] < 2:
         return out
-    xy = trajs.xy  # (N, T, 2)
     forecast = ctx.people_at(trajs.t)  # (T, K, 2)
-    dt = np.diff(trajs.t)  # (T-1,)
-    step = np.diff(xy, axis=1) / np.maximum(dt, 1e-9)[None, :, None]  # (N, T-1, 2)
-    zero = np.zeros((n, 1, 2))
-    into = np.concatenate([zero, step], axis=1)  # (N, T, 2), the step that arrived at i
-    out_of = np.concatenate([step, zero], axis=1)  # the step that leaves i
+    dt = np.maximum(np.diff(trajs.t), 1e-9)[None, :, None]  # (1, T-1, 1)
     for k in near:
-        rel = forecast[None, :, k] - xy  # (N, T, 2), robot → person
-        dist = np.sqrt((rel * rel).sum(axis=-1))
+        rows = np.flatnonzero(pairs[:, k])
+        xy = trajs.xy[rows]  # (R, T, 2)
+        step = np.diff(xy, axis=1) / dt  # (R, T-1, 2)
+        rel = forecast[None, :, k] - xy  # (R, T, 2), robot → person
+        dist = np.sqrt((rel * rel).sum(axis=-1))  # (R, T)
         unit = rel / np.maximum(dist, 1e-9)[..., None]
-        closing = np.maximum((into * unit).sum(axis=-1), (out_of * unit).sum(axis=-1))
-        out |= ((dist < contact[k]) & (closing > speed)).any(axis=1)
+        closing = np.zeros_like(dist)  # the faster of the steps arriving at and leaving i
+        closing[:, 1:] = (step * unit[:, 1:]).sum(axis=-1)
+        closing[:, :-1] = np.maximum(closing[:, :-1], (step * unit[:, :-1]).sum(axis=-1))
+        closing[:, -1] = np.maximum(closing[:, -1], 0.0)  # no step leaves the last sample
+        out[rows] |= ((dist < contact[k]) & (closing > speed)).any(axis=1)
     return out
