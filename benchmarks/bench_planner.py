@@ -5,8 +5,8 @@ Run: ``.venv/bin/python benchmarks/bench_planner.py [--quick]``.
 Setup: a 10 m × 10 m local costmap at 0.05 m (200 × 200 cells) with walls and boxes, inflated
 for the PR2; the robot in the middle with a global plan across the window. ``N × T`` = samples ×
 poses per rollout (T includes t = 0); the twists are a fixed grid over the PR2's limits and the
-granularity is set so the shared time grid has exactly T poses. Sampling itself is timed on its
-own row (the dynamic-window sampler produces its own N).
+granularity is set so the shared time grid has exactly T poses. Sampling itself is timed as the
+"sample" stage of the per-stage medians (the dynamic-window sampler produces its own N).
 
 Baseline: a per-sample Python loop (ROS-style: rollout step by step with ``math``, centre cost and
 footprint outline per pose, BFS-grid lookups, heading) over the *same* BFS grids (their cost is

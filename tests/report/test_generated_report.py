@@ -68,3 +68,25 @@ def test_detected_runs_get_the_side_by_side_section_and_stay_out_of_the_rest(tmp
     assert "paccet failed no run with the context given." in report
     # no baseline ran: said in words, not an empty table
     assert "No baseline ran beside paccet" in report
+
+
+def test_the_header_reruns_this_run_and_waived_conditions_say_where(tmp_path: Path):
+    rows = [row("queue", "paccet", "pr2", s, True, 12.0) for s in (10000, 10001)]
+    rows += [
+        row("hallway", "paccet", "pioneer", 10001, True, 9.0, not_required="intrusion: 0.9 m"),
+    ]
+    report = build_generated_report(rows, tmp_path).read_text()
+    # the run's own command, not a placeholder
+    assert (
+        "socialnav compare --suite generated --families hallway,queue --seeds 10000:10002 "
+        "--planners paccet --robots pioneer,pr2`" in report
+    )
+    assert "--seeds A:B" not in report
+    assert "(listed below)" in report
+    assert "| intrusion: 0.9 m | 1 | hallway pioneer paccet seed 10001 |" in report
+
+
+def test_no_waived_condition_is_said_in_words(tmp_path: Path):
+    report = build_generated_report([row("queue", "paccet", "pr2", 1, True, 12.0)], tmp_path)
+    text = report.read_text()
+    assert "with the reason: none here." in text and "listed below" not in text

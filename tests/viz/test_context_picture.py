@@ -30,7 +30,7 @@ def test_the_legend_lists_only_the_kinds_found_and_the_robot_is_drawn():
     fig = plot_context([est], robot_poses=np.array([[2.0, -1.0, 0.5]]))
     scene, confidence = fig.axes
     assert _legend(confidence) == ["fformation"]
-    assert _legend(scene) == ["robot"]
+    assert _legend(scene) == ["person (tick: heading)", "robot"]
     xs = [line.get_xdata()[0] for line in scene.get_lines() if line.get_label() == "robot"]
     assert xs == [2.0]
 
@@ -71,4 +71,26 @@ def test_the_default_frame_is_a_confident_one_not_a_hand_over_between_tracks():
         type(est)(0.0, est.context, (fading, rising), ()),
         type(est)(1.0, est.context, (steady,), ()),
     ]
-    assert plot_context(frames).axes[0].get_title() == "t = 1.0 s"
+    assert plot_context(frames).axes[0].get_title().startswith("t = 1.0 s\n")
+    assert plot_context(frames, frame=0).axes[0].get_title() == "t = 0.0 s"
+
+
+def test_the_robot_marker_points_where_the_robot_heads():
+    fig = plot_context([estimate_once(_conversation())], robot_poses=np.array([[2.0, 0.0, np.pi]]))
+    (robot,) = [ln for ln in fig.axes[0].get_lines() if ln.get_label() == "robot"]
+    # matplotlib turns a (sides, style, angle) marker by angle degrees from pointing up
+    assert robot.get_marker() == (3, 0, 90.0)
+
+
+def test_labels_side_by_side_on_one_row_are_stacked():
+    est = estimate_once(_conversation())
+    (s,) = est.structures
+    people = tuple(
+        type(p)(p.id + 10, (p.position[0] + 1.5, p.position[1]), yaw=p.yaw)
+        for p in est.context.people
+    )
+    moved = type(s)(s.kind, tuple(m + 10 for m in s.members), 0.8, s.track_id + 1, {})
+    ctx = type(est.context)(est.context.people + people, (), (), ())
+    twice = type(est)(est.time, ctx, (s, moved), ())
+    offsets = [a.xyann for a in plot_context([twice]).axes[0].texts]
+    assert len(offsets) == 2 and offsets[0] != offsets[1]

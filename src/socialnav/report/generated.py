@@ -56,7 +56,8 @@ def pass_rate_section(doc: Document, rows: Sequence[dict[str, Any]], planners: l
         Paragraph(
             "passed/runs (rate) [95% Wilson interval]. A run passes when every *required* "
             "condition holds; conditions a scene's geometry makes impossible for a robot are "
-            "marked not required by the generator, with the reason (listed below)."
+            "marked not required by the generator, with the reason"
+            + (" (listed below)." if any(r.get("not_required") for r in rows) else ": none here.")
         )
     )
     body = []
@@ -84,9 +85,26 @@ def pass_rate_section(doc: Document, rows: Sequence[dict[str, Any]], planners: l
             "Runs with a collision: " + ", ".join(f"{p} {n}" for p, n in collisions.items()) + "."
         )
     )
-    notes = sorted({r["not_required"] for r in rows if r.get("not_required")})
-    if notes:
-        doc.add(Paragraph("Not required in some scenes: " + " | ".join(notes[:10])))
+    waived: dict[str, list[str]] = {}
+    for r in rows:
+        if r.get("not_required"):
+            waived.setdefault(r["not_required"], []).append(
+                f"{family_of(r)} {r['robot']} {r['planner']} seed {r['seed']}"
+            )
+    if waived:
+        doc.add(
+            Table(
+                ["not required, and why", "runs", "where"],
+                [
+                    [
+                        note,
+                        len(where),
+                        ", ".join(sorted(where)[:6]) + (" …" if len(where) > 6 else ""),
+                    ]
+                    for note, where in sorted(waived.items())
+                ],
+            )
+        )
 
 
 def efficiency_section(doc: Document, rows: Sequence[dict[str, Any]], planners: list[str]) -> None:
@@ -236,6 +254,21 @@ def worst_failures_section(
         )
 
 
+def _rerun_command(rows: Sequence[dict[str, Any]], detected: bool) -> str:
+    """The ``socialnav compare`` command that reruns ``rows`` (seeds as their covering range)."""
+    if not rows:
+        return "socialnav compare --suite generated --seeds A:B"
+    seeds = sorted({int(r["seed"]) for r in rows})
+    families = ",".join(sorted({family_of(r) for r in rows}))
+    planners = ",".join(_planner_order(rows))
+    robots = ",".join(sorted({r["robot"] for r in rows}))
+    return (
+        f"socialnav compare --suite generated --families {families} "
+        f"--seeds {seeds[0]}:{seeds[-1] + 1} --planners {planners} --robots {robots}"
+        + (" --context both" if detected else "")
+    )
+
+
 def build_generated_report(rows: Sequence[dict[str, Any]], out_dir: Path) -> Path:
     """Write ``report.md`` and ``report.html`` of a generated-suite run into ``out_dir``.
 
@@ -266,7 +299,7 @@ def build_generated_report(rows: Sequence[dict[str, Any]], out_dir: Path) -> Pat
             )
             + f", seeds {seeds[0] if seeds else '–'}–{seeds[-1] if seeds else '–'} "
             f"({split}); planners {', '.join(planners)}. Arrival tolerance 0.10 m (and 0.2 rad at "
-            "social spots). Reproduce with `socialnav compare --suite generated --seeds A:B`."
+            f"social spots). Reproduce with `{_rerun_command(all_rows, bool(detected))}`."
         )
     )
     pass_rate_section(doc, ok, planners)

@@ -40,6 +40,7 @@ def plot_context(
     Raises ``ValueError`` with no estimates, or robot poses of another length."""
     if not estimates:
         raise ValueError("no estimates to draw")
+    chosen = frame is None
     if frame is None:
         # confident structures first: a track fading out beside its successor is not a scene
         conf = [[s.confidence for s in e.structures if s.confidence >= 0.5] for e in estimates]
@@ -51,12 +52,22 @@ def plot_context(
     fig = Figure(figsize=(11, 5), layout="constrained")
     ax, ax_t = fig.subplots(1, 2, width_ratios=(1.1, 1))
     if walls is not None:
-        for a, b in np.asarray(walls, dtype=float).reshape(-1, 2, 2):
-            ax.plot([a[0], b[0]], [a[1], b[1]], color="0.3", lw=1.5)
+        for i, (a, b) in enumerate(np.asarray(walls, dtype=float).reshape(-1, 2, 2)):
+            # a recording's walls are the border of its annotated area
+            label = "walls / area border" if i == 0 else None
+            ax.plot([a[0], b[0]], [a[1], b[1]], color="0.3", lw=1.5, label=label)
     people = {p.id: p for p in est.context.people}
-    for p in people.values():
+    for i, p in enumerate(people.values()):
         x, y = p.position
-        ax.plot(x, y, "o", color="0.2", ms=5, zorder=3)
+        ax.plot(
+            x,
+            y,
+            "o",
+            color="0.2",
+            ms=5,
+            zorder=3,
+            label="person (tick: heading)" if i == 0 else None,
+        )
         ax.plot([x, x + 0.35 * np.cos(p.yaw)], [y, y + 0.35 * np.sin(p.yaw)], color="0.2", lw=1)
     for art in est.context.artworks:
         n = np.array([np.cos(art.facing), np.sin(art.facing)])
@@ -76,7 +87,9 @@ def plot_context(
         elif s.kind in ("walking_group", "queue"):
             ax.plot(pts[:, 0], pts[:, 1], "-", color=color, lw=2)
             if s.kind == "queue":
-                ax.plot(pts[0, 0], pts[0, 1], "s", color=color, ms=9, mfc="none")
+                ax.plot(
+                    pts[0, 0], pts[0, 1], "s", color=color, ms=9, mfc="none", label="queue head"
+                )
         elif s.kind == "viewers":
             for art in est.context.artworks:
                 for v in art.viewer_ids:
@@ -86,7 +99,10 @@ def plot_context(
         if pts.size:
             anchor = pts.mean(axis=0)
             # structures sharing members have nearby centres: stack their labels
-            near = sum(1 for a in labels if np.hypot(*(a - anchor)) < 0.8)
+            # labels run to the right of their anchor: stack those that would overlap
+            near = sum(
+                1 for a in labels if abs(a[1] - anchor[1]) < 0.6 and abs(a[0] - anchor[0]) < 3.0
+            )
             labels.append(anchor)
             ax.annotate(
                 f"{s.kind} {s.confidence:.2f}",
@@ -98,7 +114,9 @@ def plot_context(
             )
     if robot_poses is not None:
         rx, ry, ryaw = (float(v) for v in robot_poses[frame])
-        ax.plot(rx, ry, "^", color="tab:red", ms=9, zorder=4, label="robot")
+        # a triangle turned to the robot's heading (marker angle in degrees, 0 = pointing up)
+        arrow = (3, 0, float(np.degrees(ryaw)) - 90.0)
+        ax.plot(rx, ry, marker=arrow, ls="", color="tab:red", ms=9, zorder=4, label="robot")
         ax.plot([rx, rx + 0.5 * np.cos(ryaw)], [ry, ry + 0.5 * np.sin(ryaw)], color="tab:red")
     shown = [p.position for p in people.values()]
     if robot_poses is not None:
@@ -111,7 +129,8 @@ def plot_context(
     ax.set_aspect("equal")
     ax.set_xlabel("x (m)")
     ax.set_ylabel("y (m)")
-    ax.set_title(f"{title} t = {est.time:.1f} s".strip())
+    why = "\n(the frame with the most confident structures)" if chosen else ""
+    ax.set_title(f"{title} t = {est.time:.1f} s".strip() + why, fontsize=10)
     series: dict[int, tuple[str, list[float], list[float]]] = {}
     for e in estimates:
         for s in e.structures:
@@ -132,6 +151,8 @@ def plot_context(
         ax_t.legend(loc="lower right", fontsize=8)
     else:
         ax_t.text(0.5, 0.5, "no structure found", ha="center", transform=ax_t.transAxes)
-    if robot_poses is not None:
-        ax.legend(loc="upper right", fontsize=8)
+    handles, names = ax.get_legend_handles_labels()
+    if handles:
+        unique = dict(zip(names, handles, strict=True))  # one entry per label
+        ax.legend(unique.values(), unique.keys(), loc="best", fontsize=8, framealpha=0.6)
     return fig
