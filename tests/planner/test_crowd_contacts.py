@@ -21,7 +21,12 @@ from socialnav.core.robot import PIONEER, PR2, RobotModel
 from socialnav.core.scene import Person, SocialContext
 from socialnav.core.trajectories import Trajectories
 from socialnav.planner.context import PlanningContext
-from socialnav.planner.critics.interpersonal import InterpersonalCritic
+from socialnav.planner.critics.interpersonal import (
+    InterpersonalCritic,
+    approaches,
+    min_squared_distances,
+    passing_distances,
+)
 from socialnav.planner.objectives import Objective, evaluate
 from socialnav.planner.presets import build_navigator
 from socialnav.world.grid import Costmap, GridGeometry
@@ -138,6 +143,15 @@ def test_evasion_judges_closing_only_over_the_next_second():
     assert full.illegal["person_approach"][0]  # over the whole 3 s it does close on them
 
 
+def _random_walkers(rng, k: int, spread: float) -> PlanningContext:
+    """``k`` people within ``spread`` m of the robot, walking at up to 1.5 m/s per axis."""
+    people = tuple(
+        Person(i, tuple(rng.uniform(-spread, spread, 2)), tuple(rng.uniform(-1.5, 1.5, 2)))
+        for i in range(k)
+    )
+    return _ctx(SocialContext(people))
+
+
 def _approaches_oracle(trajs, ctx, d2min, contact, speed):
     """The rule written out over every trajectory and person (no cull): the reference the
     culled :func:`approaches` must reproduce exactly."""
@@ -159,14 +173,8 @@ def _approaches_oracle(trajs, ctx, d2min, contact, speed):
 @given(st.integers(0, 2**32 - 1), st.integers(1, 6))
 @settings(max_examples=60, deadline=None)
 def test_the_culled_approach_rule_equals_the_rule_over_every_pair(seed, k):
-    from socialnav.planner.critics.interpersonal import approaches, min_squared_distances
-
     rng = np.random.default_rng(seed)
-    people = tuple(
-        Person(i, tuple(rng.uniform(-1.5, 1.5, 2)), tuple(rng.uniform(-1.5, 1.5, 2)))
-        for i in range(k)
-    )
-    ctx = _ctx(SocialContext(people))
+    ctx = _random_walkers(rng, k, spread=1.5)
     trajs = _lines(rng.uniform(-0.6, 0.6, (40, 2)))
     contact = ctx.social.radii() + PR2.inscribed_radius
     d2min = min_squared_distances(trajs, ctx, contact)
@@ -177,14 +185,8 @@ def test_the_culled_approach_rule_equals_the_rule_over_every_pair(seed, k):
 @given(st.integers(0, 2**32 - 1), st.integers(1, 8), st.floats(0.3, 2.0))
 @settings(max_examples=60, deadline=None)
 def test_culled_passing_distances_are_exact_within_reach_and_beyond_it_elsewhere(seed, k, r):
-    from socialnav.planner.critics.interpersonal import passing_distances
-
     rng = np.random.default_rng(seed)
-    people = tuple(
-        Person(i, tuple(rng.uniform(-4.0, 4.0, 2)), tuple(rng.uniform(-1.5, 1.5, 2)))
-        for i in range(k)
-    )
-    ctx = _ctx(SocialContext(people))
+    ctx = _random_walkers(rng, k, spread=4.0)
     trajs = _lines(rng.uniform(-0.6, 0.6, (30, 2)))
     full = passing_distances(trajs, ctx, 2.5)
     culled = passing_distances(trajs, ctx, 2.5, np.full(k, r))

@@ -226,14 +226,8 @@ def worst_failures_section(
     fig_dir.mkdir(parents=True, exist_ok=True)
     body = []
     for r in failed[:WORST_FAILURES]:
-        fam = family_of(r)
-        rerun = (
-            f"socialnav compare --suite generated --families {fam} --seeds {r['seed']}:"
-            f"{r['seed'] + 1} --planners {planner} --robots {r['robot']}"
-        )
-        body.append(
-            [fam, r["robot"], r["seed"], r.get("failed_required") or r.get("error", "")[:60], rerun]
-        )
+        why = r.get("failed_required") or r.get("error", "")[:60]
+        body.append([family_of(r), r["robot"], r["seed"], why, _rerun_command([r], False)])
     doc.add(Table(["family", "robot", "seed", "failed condition", "rerun"], body))
     for r in failed[:WORST_FAILURES]:
         path = fig_dir / f"fail__{r['run_id']}.png"
