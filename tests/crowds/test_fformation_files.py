@@ -80,7 +80,7 @@ def test_bad_settings_name_file_and_field(tmp_path, params, field):
 def test_settings_not_a_mat_file(tmp_path):
     path = tmp_path / "settings.mat"
     path.write_text("radius: 60\n")
-    with pytest.raises(FFormationFormatError, match="settings.mat"):
+    with pytest.raises(FFormationFormatError, match=r"settings\.mat"):
         load_fformation_settings(path)
     savemat(path, {"other": 1.0})
     with pytest.raises(FFormationFormatError, match="field 'params' is missing"):
@@ -105,7 +105,7 @@ def test_bad_frames_name_file_and_field(tmp_path):
     with pytest.raises(FFormationFormatError, match=r"'GTgroups\{1\}' names \[9\]"):
         load_fformation_frames(_dataset(tmp_path / "c", gt=bad))
     (tmp_path / "e").mkdir()
-    with pytest.raises(FFormationFormatError, match="features.mat: no such file"):
+    with pytest.raises(FFormationFormatError, match=r"features\.mat: no such file"):
         load_fformation_frames(tmp_path / "e")
 
 
