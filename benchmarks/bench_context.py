@@ -4,20 +4,33 @@ Run: ``.venv/bin/python benchmarks/bench_context.py [--fit]`` (from the reposito
 public data are read from ``../shared/data``, relative to it; sections whose data are absent
 are skipped). Prints Markdown tables and writes them to ``benchmarks/out/context.md``.
 
-1. F-formations (Cristani et al., BMVC 2011: Synth and CoffeeBreak Seq1; positions in cm are
-   converted to metres): precision, recall and F1 at T = 2/3 and T = 1 with the rule of
-   :func:`socialnav.metrics.groups.group_detection_scores`, first each frame alone, with the
-   defaults, with GCFF's vote (``heading_tolerance = 0``) and with its fixed stride (no
-   wide-circle merge); also Synth with its headings quantised to 4 directions,
-   as CoffeeBreak's head-pose classes are, to see what quantisation alone costs. ``--fit``
-   repeats the grid search on Synth that chose the defaults of :class:`FFormationParams`;
-   CoffeeBreak is never used for fitting. Then the frames as a sequence, through the
-   estimator as it runs online (track smoothing: a standing person's position and heading are
-   the running mean of their observations; optionally hysteresis): both files are sequences
+1. F-formations (Cristani et al., BMVC 2011: Synth and CoffeeBreak Seq1, read with
+   :mod:`socialnav.crowds.fformations`; annotations matched to feature frames by timestamp;
+   positions in cm converted to metres). First what the files say: the headings'
+   quantisation step (CoffeeBreak: 90°, its four head-pose classes; Synth: 15°), the
+   published settings (``settings.mat``: a 0.6 m stride for both), and which reading of the
+   orientation column makes people face their own group (counter-clockwise from +x, for
+   both). Then precision, recall and F1 at T = 2/3 and T = 1 with the rule of
+   :func:`socialnav.metrics.groups.group_detection_scores`, each frame alone, with the
+   defaults, with GCFF's vote (``heading_tolerance = 0``), with its fixed stride (no
+   wide-circle merge), with the dataset's published stride (and position σ), and with the
+   heading step allowed for a priori (:func:`quantisation_allowed`); also Synth with its
+   headings quantised to 4 directions, as CoffeeBreak's are, to see what quantisation alone
+   costs. A dataset whose heading step is coarser than Synth's also gets parameters fitted
+   on Synth with its headings quantised to that step (:func:`fit_on_synth`, the grid of the
+   defaults and an open grid). ``--fit`` repeats the grid search on Synth that chose the
+   defaults of :class:`FFormationParams`; CoffeeBreak is never used for fitting, except by
+   ``--bound``: the best CoffeeBreak score of a 2880-point grid chosen on CoffeeBreak itself,
+   an upper bound on what these parameters can reach (minutes). Then the frames as a
+   sequence, through the estimator as it runs online (track smoothing: a standing person's
+   position and heading are the running mean of their observations; optionally
+   hysteresis), with the defaults and, for a coarse heading step, the open-grid parameters
+   fitted on Synth quantised to it: both files are sequences
    (Synth: 10 static scenes of 10 jittered frames whose ids are reused by other people, so
    the estimator is reset at each scene; CoffeeBreak: one scene, people coming and going).
    The files give no time between frames, so Δt = 0.1 s (people missed for a frame are
-   coasted) and 1 s (beyond the 0.6 s coast time: they are not) are both shown. Last, wide
+   coasted; a few centimetres of jitter per frame reads as walking) and 1 s (beyond the
+   0.6 s coast time: they are not) are both shown. Last, wide
    circles: 105 jittered circles (2–6 members, radius 0.6–1.5 m, σ 0.05 m, 10°, spacing
    jitter σ 0.15 rad; seed 0), found whole with GCFF's fixed stride and with the wide-circle
    merge (``FFormationParams.max_stride``, ``merge_facing``).
