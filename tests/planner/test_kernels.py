@@ -154,6 +154,16 @@ def test_critics_bit_identical(
     critics = [
         OccupancyCritic(footprint=footprint, circumscribed_cost=circumscribed),
         InterpersonalCritic(evaluation="max_over_time"),
+        # paccet's: partners, passing distances; then larger reaches extend the shared cache
+        InterpersonalCritic(evaluation="max_over_time", partner_distance=True, hold_horizon=2.5),
+        InterpersonalCritic(
+            evaluation="max_over_time",
+            distance="edge",
+            footprint_disc="circumscribed",
+            hold_horizon=1.0,
+            approach_speed=0.0,
+        ),
+        InterpersonalCritic(evaluation="max_over_time", threshold=3.0, collision_check=False),
         InterpersonalCritic(distance="edge", person_slot=1),
         GroupCritic(),
         GroupCritic(evaluation="max_over_time", illegal_inside=True),

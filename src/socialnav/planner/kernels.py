@@ -371,6 +371,275 @@ def min_squared_distances(
 
 
 @_jit
+def _d2min_culled_kernel(poses, forecast, reach2, out):  # type: ignore[no-untyped-def]
+    """``out (N, J)`` = min over ``t`` of the squared distance of ``poses[i, t, :2]`` to
+    ``forecast[j, t]`` (``forecast (J, T, 2)``), as :func:`_d2min_kernel` computes it, for every
+    pair whose boxes (the trajectory's over all times, the person's over all times) come within
+    ``sqrt(reach2[j])``; ``inf`` for the pairs whose boxes are farther apart (their distance is
+    too at every time).
+
+    Pairs of finite points take the minimum with four accumulators (the minimum of finite
+    squared distances, never -0.0, is the same whatever the order; one accumulator would
+    make the loop wait on each comparison); a pair with a non-finite point keeps the NaN
+    propagation of ``np.min`` in one ordered pass and is never culled."""
+    n, t = poses.shape[0], poses.shape[1]
+    m = forecast.shape[0]
+    plo = np.empty((m, 2))
+    phi = np.empty((m, 2))
+    pfin = np.ones(m, dtype=np.bool_)
+    for j in range(m):
+        for a in range(2):
+            plo[j, a] = np.inf
+            phi[j, a] = -np.inf
+        for k in range(t):
+            for a in range(2):
+                v = forecast[j, k, a]
+                if not np.isfinite(v):
+                    pfin[j] = False
+                if v < plo[j, a]:
+                    plo[j, a] = v
+                if v > phi[j, a]:
+                    phi[j, a] = v
+    t4 = t - t % 4
+    for i in range(n):
+        xlo = np.inf
+        xhi = -np.inf
+        ylo = np.inf
+        yhi = -np.inf
+        tfin = True
+        for k in range(t):
+            x = poses[i, k, 0]
+            y = poses[i, k, 1]
+            if not (np.isfinite(x) and np.isfinite(y)):
+                tfin = False
+            if x < xlo:
+                xlo = x
+            if x > xhi:
+                xhi = x
+            if y < ylo:
+                ylo = y
+            if y > yhi:
+                yhi = y
+        for j in range(m):
+            if not (tfin and pfin[j]):
+                best = np.inf
+                for k in range(t):
+                    dx = poses[i, k, 0] - forecast[j, k, 0]
+                    dy = poses[i, k, 1] - forecast[j, k, 1]
+                    d = dx * dx + dy * dy
+                    if d < best or d != d:
+                        best = d
+                out[i, j] = best
+                continue
+            gx = max(xlo - phi[j, 0], 0.0) + max(plo[j, 0] - xhi, 0.0)
+            gy = max(ylo - phi[j, 1], 0.0) + max(plo[j, 1] - yhi, 0.0)
+            if gx * gx + gy * gy > reach2[j]:
+                out[i, j] = np.inf
+                continue
+            b0 = np.inf
+            b1 = np.inf
+            b2 = np.inf
+            b3 = np.inf
+            for k in range(0, t4, 4):
+                dx = poses[i, k, 0] - forecast[j, k, 0]
+                dy = poses[i, k, 1] - forecast[j, k, 1]
+                d = dx * dx + dy * dy
+                if d < b0:
+                    b0 = d
+                dx = poses[i, k + 1, 0] - forecast[j, k + 1, 0]
+                dy = poses[i, k + 1, 1] - forecast[j, k + 1, 1]
+                d = dx * dx + dy * dy
+                if d < b1:
+                    b1 = d
+                dx = poses[i, k + 2, 0] - forecast[j, k + 2, 0]
+                dy = poses[i, k + 2, 1] - forecast[j, k + 2, 1]
+                d = dx * dx + dy * dy
+                if d < b2:
+                    b2 = d
+                dx = poses[i, k + 3, 0] - forecast[j, k + 3, 0]
+                dy = poses[i, k + 3, 1] - forecast[j, k + 3, 1]
+                d = dx * dx + dy * dy
+                if d < b3:
+                    b3 = d
+            for k in range(t4, t):
+                dx = poses[i, k, 0] - forecast[j, k, 0]
+                dy = poses[i, k, 1] - forecast[j, k, 1]
+                d = dx * dx + dy * dy
+                if d < b0:
+                    b0 = d
+            out[i, j] = min(min(b0, b1), min(b2, b3))
+
+
+def min_squared_distances_culled(
+    poses: NDArray[np.float64],
+    forecast: NDArray[np.float64],
+    people: NDArray[np.intp],
+    reach: NDArray[np.float64],
+    out: NDArray[np.float64],
+) -> None:
+    """:func:`min_squared_distances` for ``people`` (column indices), exact for every
+    (trajectory, person) pair that can come within ``reach (J,)`` m (one per listed person) and
+    ``inf`` for the pairs whose boxes provably stay farther apart (a relative margin of 1e-9
+    keeps the cull conservative against rounding); ``poses (N, T, 3)``, ``forecast (T, K, 2)``,
+    ``out (N, K)`` m², written in place."""
+    people = np.asarray(people, dtype=np.intp)
+    limit = np.asarray(reach, dtype=np.float64) * (1.0 + 1e-9) + 1e-9
+    block = np.empty((poses.shape[0], people.size))
+    _d2min_culled_kernel(
+        np.ascontiguousarray(poses, dtype=np.float64),
+        np.ascontiguousarray(np.asarray(forecast, dtype=np.float64)[:, people].transpose(1, 0, 2)),
+        limit * limit,
+        block,
+    )
+    out[:, people] = block
+
+
+@_jit
+def _person_distance_kernel(  # type: ignore[no-untyped-def]
+    d2min, cols, end, start, step, passing, r2, collide, out, hit
+):
+    """Per trajectory ``i`` and listed person ``c = cols[jj]``: ``out[i, jj]`` = the centre
+    distance ``sqrt(d2min[i, c])``, lowered to the passing distance of the walk ``start[c] +
+    s step[c]`` (``s`` in [0, 1]) from the end point ``end[i]`` where ``passing[jj]`` (the
+    operations of :func:`~socialnav.planner.critics.interpersonal.passing_distances` in its
+    order); ``hit[i]`` |= ``d2min[i, c] < r2[c]`` for the people with ``collide[jj]``."""
+    n, m = d2min.shape[0], cols.shape[0]
+    for i in range(n):
+        ex = end[i, 0]
+        ey = end[i, 1]
+        h = False
+        for jj in range(m):
+            c = cols[jj]
+            d2 = d2min[i, c]
+            if collide[jj] and d2 < r2[c]:
+                h = True
+            d = np.sqrt(d2)
+            if passing[jj]:
+                wx = ex - start[c, 0]
+                wy = ey - start[c, 1]
+                sx = step[c, 0]
+                sy = step[c, 1]
+                uu = sx * sx + sy * sy
+                s = 0.0
+                if uu > 0:
+                    s = (wx * sx + wy * sy) / uu
+                s = min(max(s, 0.0), 1.0)
+                gx = wx - s * sx
+                gy = wy - s * sy
+                p = np.sqrt(gx * gx + gy * gy)
+                if p < d or p != p:  # np.minimum: NaN propagates
+                    d = p
+            out[i, jj] = d
+        hit[i] = h
+
+
+def person_distances(
+    d2min: NDArray[np.float64],
+    cols: NDArray[np.intp],
+    end: NDArray[np.float64],
+    start: NDArray[np.float64],
+    step: NDArray[np.float64],
+    passing: NDArray[np.bool_],
+    r2: NDArray[np.float64],
+    collide: NDArray[np.bool_],
+) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
+    """``(N, J)`` centre distance (m) to each person of ``cols (J,)`` (the minimum over the
+    rollout, and with ``passing (J,)`` over the walk after it: ``start``/``step (K, 2)``, end
+    points ``end (N, 2)``) and ``(N,)`` whether any person with ``collide (J,)`` is within
+    ``sqrt(r2)`` (``d2min (N, K)`` m², :func:`min_squared_distances_culled`)."""
+    n = d2min.shape[0]
+    out = np.empty((n, cols.size))
+    hit = np.empty(n, dtype=np.bool_)
+    _person_distance_kernel(
+        np.ascontiguousarray(d2min, dtype=np.float64),
+        np.ascontiguousarray(cols, dtype=np.intp),
+        np.ascontiguousarray(end, dtype=np.float64),
+        np.ascontiguousarray(start, dtype=np.float64),
+        np.ascontiguousarray(step, dtype=np.float64),
+        np.ascontiguousarray(passing, dtype=np.bool_),
+        np.ascontiguousarray(r2, dtype=np.float64),
+        np.ascontiguousarray(collide, dtype=np.bool_),
+        out,
+        hit,
+    )
+    return out, hit
+
+
+@_jit
+def _approach_kernel(poses, t, forecast, d2min, cols, reach2, contact, speed, out):  # type: ignore[no-untyped-def]
+    """The rule of :func:`~socialnav.planner.critics.interpersonal.approaches` in its
+    operations: for each listed person ``c`` and each trajectory within ``reach2[c]`` of them,
+    at a sample in contact (``dist < contact[c]``) the faster of the steps arriving at and
+    leaving it closing faster than ``speed`` makes ``out[i]`` True."""
+    n, steps = poses.shape[0], poses.shape[1]
+    if steps < 2:
+        return
+    dt = np.empty(steps - 1)
+    for k in range(steps - 1):
+        dt[k] = max(t[k + 1] - t[k], 1e-9)
+    for jj in range(cols.shape[0]):
+        c = cols[jj]
+        for i in range(n):
+            if out[i] or not d2min[i, c] < reach2[c]:
+                continue
+            for k in range(steps):
+                rx = forecast[k, c, 0] - poses[i, k, 0]
+                ry = forecast[k, c, 1] - poses[i, k, 1]
+                dist = np.sqrt(rx * rx + ry * ry)
+                if not dist < contact[c]:
+                    continue
+                den = max(dist, 1e-9)
+                ux = rx / den
+                uy = ry / den
+                if k > 0:
+                    sx = (poses[i, k, 0] - poses[i, k - 1, 0]) / dt[k - 1]
+                    sy = (poses[i, k, 1] - poses[i, k - 1, 1]) / dt[k - 1]
+                    closing = sx * ux + sy * uy
+                else:
+                    closing = 0.0
+                if k < steps - 1:
+                    sx = (poses[i, k + 1, 0] - poses[i, k, 0]) / dt[k]
+                    sy = (poses[i, k + 1, 1] - poses[i, k, 1]) / dt[k]
+                    leave = sx * ux + sy * uy
+                    if leave > closing or leave != leave:
+                        closing = leave
+                elif closing < 0.0:
+                    closing = 0.0
+                if closing > speed:
+                    out[i] = True
+                    break
+
+
+def approaches(
+    poses: NDArray[np.float64],
+    t: NDArray[np.float64],
+    forecast: NDArray[np.float64],
+    d2min: NDArray[np.float64],
+    cols: NDArray[np.intp],
+    contact: NDArray[np.float64],
+    speed: float,
+) -> NDArray[np.bool_]:
+    """``(N,)`` trajectories (``poses (N, T, 3)`` float64, times ``t (T,)`` s) that close on a
+    person of ``cols`` (forecast ``(T, K, 2)``) faster than ``speed`` m/s while within
+    ``contact (K,)`` m of them; bit-identical to the NumPy rule
+    (:func:`socialnav.planner.critics.interpersonal.approaches`)."""
+    out = np.zeros(poses.shape[0], dtype=np.bool_)
+    contact = np.asarray(contact, dtype=np.float64)
+    _approach_kernel(
+        np.ascontiguousarray(poses, dtype=np.float64),
+        np.ascontiguousarray(t, dtype=np.float64),
+        np.ascontiguousarray(forecast, dtype=np.float64),
+        np.ascontiguousarray(d2min, dtype=np.float64),
+        np.ascontiguousarray(cols, dtype=np.intp),
+        (contact * (1.0 + 1e-9)) ** 2,
+        contact,
+        float(speed),
+        out,
+    )
+    return out
+
+
+@_jit
 def _time_box_kernel(xy, lo, hi):  # type: ignore[no-untyped-def]
     n, t = xy.shape[0], xy.shape[1]
     for k in range(t):
@@ -1108,6 +1377,12 @@ def warmup() -> float:
         occupancy_scan(poses, 1, costs, (0.0, 0.0), 0.25, data, clr, circ, sizes, 8)
     out = np.full((2, 1), np.inf)
     min_squared_distances(poses, np.zeros((4, 1, 2)), np.array([0], np.intp), out)
+    people = np.array([0], np.intp)
+    min_squared_distances_culled(poses, np.zeros((4, 1, 2)), people, np.ones(1), out)
+    walk = np.zeros((1, 2))
+    flags = np.ones(1, dtype=np.bool_)
+    person_distances(out, people, poses[:, -1, :2], walk, walk, flags, np.ones(1), flags)
+    approaches(poses, t, np.zeros((4, 1, 2)), out, people, np.ones(1), 0.02)
     bfs_distance(np.ones((3, 3), dtype=bool), np.array([[1, 1]], dtype=np.intp))
     footprint_mask(GridGeometry((4, 4), 0.25), outline, pose)
     dense = densify_path(np.array([[0.0, 0.0], [1.0, 0.5]]), 0.1)
