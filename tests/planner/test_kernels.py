@@ -241,23 +241,19 @@ def test_warmup_compiles_ahead() -> None:
     if not kernels.enabled():
         pytest.skip("reference path selected")
     kernels.warmup()
-    sigs = {
-        k: len(f.signatures)
-        for k, f in {
-            "rollout": kernels._rollout_kernel,
-            "occupancy": kernels._occupancy_kernel,
-            "d2min": kernels._d2min_kernel,
-        }.items()
+    fns = {
+        "rollout": kernels._rollout_kernel,
+        "occupancy": kernels._occupancy_kernel,
+        "d2min": kernels._d2min_culled_kernel,
+        "person_distances": kernels._person_distance_kernel,
+        "approach": kernels._approach_kernel,
     }
+    sigs = {k: len(f.signatures) for k, f in fns.items()}
+    assert all(sigs.values())
     costmap, pose, vel, goal, path, social = scene(3, 5)
     planner = build_local_planner("paccet", PR2, social, LocalPlannerParams(5, 3, 7))
     planner.plan(context(PR2, costmap, pose, vel, goal, path, social))
-    after = {
-        "rollout": len(kernels._rollout_kernel.signatures),
-        "occupancy": len(kernels._occupancy_kernel.signatures),
-        "d2min": len(kernels._d2min_kernel.signatures),
-    }
-    assert after == sigs
+    assert {k: len(f.signatures) for k, f in fns.items()} == sigs
 
 
 def test_warmup_covers_selection_search_and_layers() -> None:

@@ -330,27 +330,6 @@ def occupancy_scan(
 # ---- people --------------------------------------------------------------------------------
 
 
-@_jit
-def _d2min_kernel(xy, forecast, out):  # type: ignore[no-untyped-def]
-    """``out (N, J)`` = min over ``t`` of the squared distance of ``xy[i, t]`` to
-    ``forecast[t, j]`` (``forecast (T, J, 2)`` gathered, contiguous); NaN sticks as in
-    ``np.min``."""
-    n, t = xy.shape[0], xy.shape[1]
-    m = forecast.shape[1]
-    for i in range(n):
-        for j in range(m):
-            out[i, j] = np.inf
-        for k in range(t):
-            x = xy[i, k, 0]
-            y = xy[i, k, 1]
-            for j in range(m):
-                dx = x - forecast[k, j, 0]
-                dy = y - forecast[k, j, 1]
-                d = dx * dx + dy * dy
-                if d < out[i, j] or d != d:
-                    out[i, j] = d
-
-
 def min_squared_distances(
     xy: NDArray[np.float64],
     forecast: NDArray[np.float64],
@@ -362,9 +341,10 @@ def min_squared_distances(
     ``out (N, K)`` m², written in place."""
     people = np.asarray(people, dtype=np.intp)
     block = np.empty((xy.shape[0], people.size))
-    _d2min_kernel(
+    _d2min_culled_kernel(  # an infinite reach: no pair is culled
         np.ascontiguousarray(xy, dtype=np.float64),
-        np.ascontiguousarray(np.asarray(forecast, dtype=np.float64)[:, people]),
+        np.ascontiguousarray(np.asarray(forecast, dtype=np.float64)[:, people].transpose(1, 0, 2)),
+        np.full(people.size, np.inf),
         block,
     )
     out[:, people] = block
@@ -373,10 +353,10 @@ def min_squared_distances(
 @_jit
 def _d2min_culled_kernel(poses, forecast, reach2, out):  # type: ignore[no-untyped-def]
     """``out (N, J)`` = min over ``t`` of the squared distance of ``poses[i, t, :2]`` to
-    ``forecast[j, t]`` (``forecast (J, T, 2)``), as :func:`_d2min_kernel` computes it, for every
-    pair whose boxes (the trajectory's over all times, the person's over all times) come within
-    ``sqrt(reach2[j])``; ``inf`` for the pairs whose boxes are farther apart (their distance is
-    too at every time).
+    ``forecast[j, t]`` (``forecast (J, T, 2)``; ``np.min``'s value), for every pair whose
+    boxes (the trajectory's over all times, the person's over all times) come within
+    ``sqrt(reach2[j])``; ``inf`` for the pairs whose boxes are farther apart (their distance
+    is too at every time).
 
     Pairs of finite points take the minimum with four accumulators (the minimum of finite
     squared distances, never -0.0, is the same whatever the order; one accumulator would
