@@ -684,6 +684,62 @@ def nearest_vertex(points: NDArray[np.float64], vertices: NDArray[np.float64]) -
     return out
 
 
+# ---- map-grid end points --------------------------------------------------------------------
+
+
+@_jit
+def _end_point_kernel(poses, ox, oy, res, grid, passable, cost, unreachable, off_map):  # type: ignore[no-untyped-def]
+    """The operations of :func:`socialnav.planner.critics.map_grid.score_end_points` per end
+    point ``poses[i, -1]``: its cell (``floor((x - origin) / resolution)``), on the grid or
+    not, the grid's steps there (float32 widened) times the resolution, or ``inf`` where the
+    cell is blocked, unreached or off the map."""
+    n, last = poses.shape[0], poses.shape[1] - 1
+    rows, cols = grid.shape
+    for i in range(n):
+        fc = np.floor((poses[i, last, 0] - ox) / res)
+        fr = np.floor((poses[i, last, 1] - oy) / res)
+        if 0.0 <= fr < rows and 0.0 <= fc < cols:
+            r = int(fr)
+            c = int(fc)
+            steps = np.float64(grid[r, c])
+            bad = not passable[r, c] or not np.isfinite(steps)
+            unreachable[i] = bad
+            off_map[i] = False
+            cost[i] = np.inf if bad else steps * res
+        else:
+            unreachable[i] = False
+            off_map[i] = True
+            cost[i] = np.inf
+
+
+def end_point_costs(
+    poses: NDArray[np.float64],
+    origin: tuple[float, float],
+    resolution: float,
+    grid: NDArray[np.float32],
+    passable: NDArray[np.bool_],
+) -> tuple[NDArray[np.float64], NDArray[np.bool_], NDArray[np.bool_]]:
+    """``cost (N,)`` (m), ``unreachable (N,)`` and ``off_map (N,)`` of the end points of
+    ``poses (N, T, 3)`` float64 on a map ``grid (rows, cols)`` float32 of BFS steps with its
+    ``passable`` mask (bit-identical to the NumPy reference)."""
+    n = poses.shape[0]
+    cost = np.empty(n)
+    unreachable = np.empty(n, dtype=np.bool_)
+    off_map = np.empty(n, dtype=np.bool_)
+    _end_point_kernel(
+        np.ascontiguousarray(poses, dtype=np.float64),
+        float(origin[0]),
+        float(origin[1]),
+        float(resolution),
+        np.ascontiguousarray(grid, dtype=np.float32),
+        np.ascontiguousarray(passable, dtype=np.bool_),
+        cost,
+        unreachable,
+        off_map,
+    )
+    return cost, unreachable, off_map
+
+
 # ---- global planner graph --------------------------------------------------------------------
 
 
@@ -1370,6 +1426,7 @@ def warmup() -> float:
     clearance_levels(costs != 0, 3.0, 0, 0, np.zeros((4, 4), np.uint16)[1:3, 1:3])
     time_box(poses)
     nearest_vertex(poses[:, -1], np.zeros((2, 2)))
+    end_point_costs(poses, (0.0, 0.0), 0.25, np.zeros((4, 4), np.float32), costs == 0)
     grid_weights(costs, costs == 0, np.array([[0, 1]]), np.array([0.25]), 50.0, 3.0)
     proxemic_costs(GridGeometry((4, 4), 0.25), np.ones((1, 2)), np.ones((1, 2)), passing=True)
     for goal in (15, -1):
