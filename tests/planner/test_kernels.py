@@ -531,3 +531,33 @@ def test_proxemic_layer_identical(
     amplitude, variance, cutoff, factor = params
     args = (geo, pos, vel, amplitude, variance, cutoff, factor, passing)
     assert np.array_equal(kernels.proxemic_costs(*args), proxemic_costs(*args))
+
+
+@settings(max_examples=80)
+@given(
+    seed=st.integers(0, 2**31 - 1),
+    n_vertices=st.integers(1, 40),
+    lattice=st.booleans(),
+    special=st.sampled_from([None, np.nan, np.inf, 1e200]),
+)
+def test_nearest_vertex_is_argmin(
+    seed: int, n_vertices: int, lattice: bool, special: float | None
+) -> None:
+    """The split-accumulator nearest-vertex search returns ``argmin``'s index: first of equal
+    distances (repeated vertices, points on a lattice), NaN first, all-inf rows 0."""
+    rng = np.random.default_rng(seed)
+    vertices = rng.uniform(-3.0, 3.0, (n_vertices, 2))
+    points = rng.uniform(-4.0, 4.0, (60, 2))
+    if lattice:  # many exact ties
+        vertices, points = np.round(vertices), np.round(points)
+    vertices = vertices[rng.integers(0, n_vertices, n_vertices)]  # repeated vertices
+    if special is not None:
+        points[rng.integers(0, 60, 5), rng.integers(0, 2, 5)] = special
+        if rng.random() < 0.5:
+            vertices[rng.integers(0, n_vertices), rng.integers(0, 2)] = special
+    d2 = (points[:, None, 0] - vertices[None, :, 0]) ** 2 + (
+        points[:, None, 1] - vertices[None, :, 1]
+    ) ** 2
+    with np.errstate(invalid="ignore", over="ignore"):
+        want = np.argmin(d2, axis=1)
+    np.testing.assert_array_equal(kernels.nearest_vertex(points, vertices), want)

@@ -653,20 +653,73 @@ def time_box(xy: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.f
 
 @_jit
 def _nearest_vertex_kernel(points, vertices, out):  # type: ignore[no-untyped-def]
+    """``out[i]`` = first index of the smallest squared distance (``np.argmin``'s). Finite
+    inputs (no NaN possible) split the vertices over four interleaved accumulators, each
+    keeping its first minimum, and take the smallest, ties to the lowest index: the same
+    index, without waiting on every comparison; otherwise one ordered pass (NaN first)."""
+    nv = vertices.shape[0]
+    finite = True
+    for v in range(nv):
+        if not (np.isfinite(vertices[v, 0]) and np.isfinite(vertices[v, 1])):
+            finite = False
+    v4 = nv - nv % 4
     for i in range(points.shape[0]):
         px, py = points[i, 0], points[i, 1]
-        best = np.inf
-        arg = 0
-        for v in range(vertices.shape[0]):
+        if not (finite and np.isfinite(px) and np.isfinite(py)):
+            best = np.inf
+            arg = 0
+            for v in range(nv):
+                dx = px - vertices[v, 0]
+                dy = py - vertices[v, 1]
+                d = dx * dx + dy * dy
+                if d < best:
+                    best = d
+                    arg = v
+                elif d != d:  # argmin returns the first NaN
+                    arg = v
+                    break
+            out[i] = arg
+            continue
+        b0 = b1 = b2 = b3 = np.inf
+        a0, a1, a2, a3 = 0, 1, 2, 3
+        for v in range(0, v4, 4):
             dx = px - vertices[v, 0]
             dy = py - vertices[v, 1]
             d = dx * dx + dy * dy
-            if d < best:
-                best = d
-                arg = v
-            elif d != d:  # argmin returns the first NaN
-                arg = v
-                break
+            if d < b0:
+                b0, a0 = d, v
+            dx = px - vertices[v + 1, 0]
+            dy = py - vertices[v + 1, 1]
+            d = dx * dx + dy * dy
+            if d < b1:
+                b1, a1 = d, v + 1
+            dx = px - vertices[v + 2, 0]
+            dy = py - vertices[v + 2, 1]
+            d = dx * dx + dy * dy
+            if d < b2:
+                b2, a2 = d, v + 2
+            dx = px - vertices[v + 3, 0]
+            dy = py - vertices[v + 3, 1]
+            d = dx * dx + dy * dy
+            if d < b3:
+                b3, a3 = d, v + 3
+        for v in range(v4, nv):
+            dx = px - vertices[v, 0]
+            dy = py - vertices[v, 1]
+            d = dx * dx + dy * dy
+            if d < b0 or (d == b0 and v < a0):
+                b0, a0 = d, v
+        # An accumulator that never improved on inf holds a placeholder index: all-inf rows
+        # (or fewer than four vertices) must still give argmin's 0.
+        best, arg = np.inf, 0
+        if b0 < best:
+            best, arg = b0, a0
+        if b1 < best or (b1 == best and b1 < np.inf and a1 < arg):
+            best, arg = b1, a1
+        if b2 < best or (b2 == best and b2 < np.inf and a2 < arg):
+            best, arg = b2, a2
+        if b3 < best or (b3 == best and b3 < np.inf and a3 < arg):
+            best, arg = b3, a3
         out[i] = arg
 
 
