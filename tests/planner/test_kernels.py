@@ -561,3 +561,26 @@ def test_nearest_vertex_is_argmin(
     with np.errstate(invalid="ignore", over="ignore"):
         want = np.argmin(d2, axis=1)
     np.testing.assert_array_equal(kernels.nearest_vertex(points, vertices), want)
+
+
+@settings(max_examples=30)
+@given(seed=st.integers(0, 2**31 - 1), people=st.integers(0, 6))
+def test_occupancy_hit_codes_identical(seed: int, people: int) -> None:
+    """The padded hit-code map of the occupancy critic (LETHAL 1, UNKNOWN or off the map 2)."""
+    from socialnav.planner.critics.occupancy import _prepare_outline
+
+    costmap, pose, vel, goal, path, social = scene(seed, people)
+    costs = costmap.costs.copy()
+    rng = np.random.default_rng(seed)
+    costs[rng.random(costs.shape) < 0.05] = 255  # some UNKNOWN cells too
+    costmap = type(costmap)(costs, costmap.geometry)
+    maps = []
+    for flag in (False, True):
+        with compiled(flag):
+            ctx = context(PR2, costmap, pose, vel, goal, path, social)
+            _prepare_outline(ctx)
+            assert ctx.cache.occupancy_codes is not None
+            maps.append(ctx.cache.occupancy_codes)
+    assert maps[0][1] == maps[1][1]
+    assert maps[0][0].dtype == maps[1][0].dtype == np.uint8
+    assert np.array_equal(maps[0][0], maps[1][0])

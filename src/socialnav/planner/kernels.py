@@ -327,6 +327,37 @@ def occupancy_scan(
     return worst, collision, unknown
 
 
+@_jit
+def _hit_codes_kernel(costs, inscribed, border, codes, pad):  # type: ignore[no-untyped-def]
+    """``codes`` (padded by ``pad``): ``max(cost, inscribed) - inscribed`` inside (0 free,
+    1 LETHAL, 2 UNKNOWN for the costmap's 253..255), ``border`` on the pad."""
+    rows, cols = costs.shape
+    width = codes.shape[1]
+    for r in range(codes.shape[0]):
+        inner_r = pad <= r < pad + rows
+        for c in range(width):
+            if inner_r and pad <= c < pad + cols:
+                v = costs[r - pad, c - pad]
+                codes[r, c] = v - inscribed if v > inscribed else 0
+            else:
+                codes[r, c] = border
+
+
+def hit_codes(costs: NDArray[np.uint8], inscribed: int, border: int, pad: int) -> NDArray[np.uint8]:
+    """The occupancy critic's padded hit-code map ``(rows + 2 pad, cols + 2 pad)`` uint8 of
+    ``costs (rows, cols)`` in one pass (the same values as its NumPy construction)."""
+    rows, cols = costs.shape
+    codes = np.empty((rows + 2 * pad, cols + 2 * pad), dtype=np.uint8)
+    _hit_codes_kernel(
+        np.ascontiguousarray(costs, dtype=np.uint8),
+        np.uint8(inscribed),
+        np.uint8(border),
+        codes,
+        pad,
+    )
+    return codes
+
+
 # ---- people --------------------------------------------------------------------------------
 
 
@@ -1480,6 +1511,7 @@ def warmup() -> float:
     time_box(poses)
     nearest_vertex(poses[:, -1], np.zeros((2, 2)))
     end_point_costs(poses, (0.0, 0.0), 0.25, np.zeros((4, 4), np.float32), costs == 0)
+    hit_codes(costs, 253, 2, 2)
     grid_weights(costs, costs == 0, np.array([[0, 1]]), np.array([0.25]), 50.0, 3.0)
     proxemic_costs(GridGeometry((4, 4), 0.25), np.ones((1, 2)), np.ones((1, 2)), passing=True)
     for goal in (15, -1):
