@@ -584,3 +584,35 @@ def test_occupancy_hit_codes_identical(seed: int, people: int) -> None:
     assert maps[0][1] == maps[1][1]
     assert maps[0][0].dtype == maps[1][0].dtype == np.uint8
     assert np.array_equal(maps[0][0], maps[1][0])
+
+
+@settings(max_examples=60)
+@given(
+    seed=st.integers(0, 2**31 - 1),
+    steps=st.integers(1, 13),
+    reach=st.sampled_from([0.3, 1.0, np.inf]),
+    special=st.sampled_from([None, np.nan, np.inf, -np.inf]),
+)
+def test_culled_distance_minimum_matches_np_min(
+    seed: int, steps: int, reach: float, special: float | None
+) -> None:
+    """The four-accumulator, pair-culled minimum: ``np.min``'s value (NaN sticking) for every
+    pair within ``reach`` or with a non-finite point; only pairs truly beyond ``reach`` may be
+    ``inf`` instead."""
+    rng = np.random.default_rng(seed)
+    poses = rng.uniform(-2.0, 2.0, (30, steps, 3))
+    forecast = rng.uniform(-2.0, 2.0, (steps, 5, 2))
+    if special is not None:
+        poses[rng.integers(0, 30, 3), rng.integers(0, steps, 3), rng.integers(0, 2, 3)] = special
+        forecast[rng.integers(0, steps), rng.integers(0, 5), rng.integers(0, 2)] = special
+    with np.errstate(invalid="ignore"):
+        want = ((poses[:, :, None, :2] - forecast[None]) ** 2).sum(-1).min(axis=1)  # (N, K)
+    people = np.arange(5, dtype=np.intp)
+    got = np.full((30, 5), -1.0)
+    kernels.min_squared_distances_culled(poses, forecast, people, np.full(5, reach), got)
+    plain = np.full((30, 5), -1.0)
+    kernels.min_squared_distances(poses, forecast, people, plain)
+    assert np.array_equal(plain, want, equal_nan=True)
+    culled = ~np.isnan(want) & np.isinf(got) & ~np.isinf(want)
+    assert (np.sqrt(want[culled]) > reach).all()
+    assert np.array_equal(got[~culled], want[~culled], equal_nan=True)

@@ -382,35 +382,52 @@ def min_squared_distances(
 
 
 @_jit
+def _d2min_ordered(poses, forecast, i, j):  # type: ignore[no-untyped-def]
+    """min over ``t`` of one pair's squared distances in order, NaN sticking as in ``np.min``."""
+    best = np.inf
+    for k in range(poses.shape[1]):
+        dx = poses[i, k, 0] - forecast[j, k, 0]
+        dy = poses[i, k, 1] - forecast[j, k, 1]
+        d = dx * dx + dy * dy
+        if d < best or d != d:
+            best = d
+    return best
+
+
+@_jit
 def _d2min_culled_kernel(poses, forecast, reach2, out):  # type: ignore[no-untyped-def]
     """``out (N, J)`` = min over ``t`` of the squared distance of ``poses[i, t, :2]`` to
     ``forecast[j, t]`` (``forecast (J, T, 2)``; ``np.min``'s value), for every pair whose
     boxes (the trajectory's over all times, the person's over all times) come within
     ``sqrt(reach2[j])``; ``inf`` for the pairs whose boxes are farther apart (their distance
-    is too at every time).
+    is too at every time). Pairs with a non-finite point are never culled.
 
-    Pairs of finite points take the minimum with four accumulators (the minimum of finite
-    squared distances, never -0.0, is the same whatever the order; one accumulator would
-    make the loop wait on each comparison); a pair with a non-finite point keeps the NaN
-    propagation of ``np.min`` in one ordered pass and is never culled."""
+    The minimum runs over four accumulators (the minimum of squared distances, never -0.0,
+    is the same whatever the order; one accumulator would make the loop wait on each
+    comparison); a pair where a NaN appears is redone in order, as ``np.min`` propagates it."""
     n, t = poses.shape[0], poses.shape[1]
     m = forecast.shape[0]
+    cull = False
+    for j in range(m):
+        if reach2[j] < np.inf:
+            cull = True
     plo = np.empty((m, 2))
     phi = np.empty((m, 2))
     pfin = np.ones(m, dtype=np.bool_)
-    for j in range(m):
-        for a in range(2):
-            plo[j, a] = np.inf
-            phi[j, a] = -np.inf
-        for k in range(t):
+    if cull:
+        for j in range(m):
             for a in range(2):
-                v = forecast[j, k, a]
-                if not np.isfinite(v):
-                    pfin[j] = False
-                if v < plo[j, a]:
-                    plo[j, a] = v
-                if v > phi[j, a]:
-                    phi[j, a] = v
+                plo[j, a] = np.inf
+                phi[j, a] = -np.inf
+            for k in range(t):
+                for a in range(2):
+                    v = forecast[j, k, a]
+                    if not np.isfinite(v):
+                        pfin[j] = False
+                    if v < plo[j, a]:
+                        plo[j, a] = v
+                    if v > phi[j, a]:
+                        phi[j, a] = v
     t4 = t - t % 4
     for i in range(n):
         xlo = np.inf
@@ -418,67 +435,60 @@ def _d2min_culled_kernel(poses, forecast, reach2, out):  # type: ignore[no-untyp
         ylo = np.inf
         yhi = -np.inf
         tfin = True
-        for k in range(t):
-            x = poses[i, k, 0]
-            y = poses[i, k, 1]
-            if not (np.isfinite(x) and np.isfinite(y)):
-                tfin = False
-            if x < xlo:
-                xlo = x
-            if x > xhi:
-                xhi = x
-            if y < ylo:
-                ylo = y
-            if y > yhi:
-                yhi = y
+        if cull:
+            for k in range(t):
+                x = poses[i, k, 0]
+                y = poses[i, k, 1]
+                if not (np.isfinite(x) and np.isfinite(y)):
+                    tfin = False
+                if x < xlo:
+                    xlo = x
+                if x > xhi:
+                    xhi = x
+                if y < ylo:
+                    ylo = y
+                if y > yhi:
+                    yhi = y
         for j in range(m):
-            if not (tfin and pfin[j]):
-                best = np.inf
-                for k in range(t):
-                    dx = poses[i, k, 0] - forecast[j, k, 0]
-                    dy = poses[i, k, 1] - forecast[j, k, 1]
-                    d = dx * dx + dy * dy
-                    if d < best or d != d:
-                        best = d
-                out[i, j] = best
-                continue
-            gx = max(xlo - phi[j, 0], 0.0) + max(plo[j, 0] - xhi, 0.0)
-            gy = max(ylo - phi[j, 1], 0.0) + max(plo[j, 1] - yhi, 0.0)
-            if gx * gx + gy * gy > reach2[j]:
-                out[i, j] = np.inf
-                continue
+            if cull and tfin and pfin[j]:
+                gx = max(xlo - phi[j, 0], 0.0) + max(plo[j, 0] - xhi, 0.0)
+                gy = max(ylo - phi[j, 1], 0.0) + max(plo[j, 1] - yhi, 0.0)
+                if gx * gx + gy * gy > reach2[j]:
+                    out[i, j] = np.inf
+                    continue
             b0 = np.inf
             b1 = np.inf
             b2 = np.inf
             b3 = np.inf
+            nan = False
             for k in range(0, t4, 4):
                 dx = poses[i, k, 0] - forecast[j, k, 0]
                 dy = poses[i, k, 1] - forecast[j, k, 1]
-                d = dx * dx + dy * dy
-                if d < b0:
-                    b0 = d
+                d0 = dx * dx + dy * dy
                 dx = poses[i, k + 1, 0] - forecast[j, k + 1, 0]
                 dy = poses[i, k + 1, 1] - forecast[j, k + 1, 1]
-                d = dx * dx + dy * dy
-                if d < b1:
-                    b1 = d
+                d1 = dx * dx + dy * dy
                 dx = poses[i, k + 2, 0] - forecast[j, k + 2, 0]
                 dy = poses[i, k + 2, 1] - forecast[j, k + 2, 1]
-                d = dx * dx + dy * dy
-                if d < b2:
-                    b2 = d
+                d2 = dx * dx + dy * dy
                 dx = poses[i, k + 3, 0] - forecast[j, k + 3, 0]
                 dy = poses[i, k + 3, 1] - forecast[j, k + 3, 1]
-                d = dx * dx + dy * dy
-                if d < b3:
-                    b3 = d
+                d3 = dx * dx + dy * dy
+                nan |= (d0 != d0) | (d1 != d1) | (d2 != d2) | (d3 != d3)
+                b0 = d0 if d0 < b0 else b0
+                b1 = d1 if d1 < b1 else b1
+                b2 = d2 if d2 < b2 else b2
+                b3 = d3 if d3 < b3 else b3
             for k in range(t4, t):
                 dx = poses[i, k, 0] - forecast[j, k, 0]
                 dy = poses[i, k, 1] - forecast[j, k, 1]
-                d = dx * dx + dy * dy
-                if d < b0:
-                    b0 = d
-            out[i, j] = min(min(b0, b1), min(b2, b3))
+                d0 = dx * dx + dy * dy
+                nan |= d0 != d0
+                b0 = d0 if d0 < b0 else b0
+            if nan:
+                out[i, j] = _d2min_ordered(poses, forecast, i, j)
+            else:
+                out[i, j] = min(min(b0, b1), min(b2, b3))
 
 
 def min_squared_distances_culled(
