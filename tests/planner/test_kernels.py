@@ -616,3 +616,30 @@ def test_culled_distance_minimum_matches_np_min(
     culled = ~np.isnan(want) & np.isinf(got) & ~np.isinf(want)
     assert (np.sqrt(want[culled]) > reach).all()
     assert np.array_equal(got[~culled], want[~culled], equal_nan=True)
+
+
+@settings(max_examples=40)
+@given(
+    seed=st.integers(0, 2**31 - 1),
+    n=st.integers(1, 60),
+    reach=st.sampled_from([None, 0.0, 0.5, 3.0]),
+    repeat=st.booleans(),
+)
+def test_heading_plan_identical(seed: int, n: int, reach: float | None, repeat: bool) -> None:
+    """The heading critic's densified plan ahead: vertices, arc lengths and tangents."""
+    rng = np.random.default_rng(seed)
+    path = np.cumsum(rng.uniform(-0.4, 0.4, (n, 2)), axis=0) + 2.0
+    if repeat and n > 2:
+        path[1] = path[0]  # a repeated vertex: a zero-length segment
+    costmap, pose, vel, goal, _, social = scene(seed, 0)
+    plans = []
+    for flag in (False, True):
+        with compiled(flag):
+            ctx = context(PR2, costmap, pose, vel, goal, path, social)
+            ctx.cache.reach = reach
+            HeadingCritic().prepare(ctx)
+            plans.append(ctx.cache.heading_plan)
+    ref, fast = plans
+    assert ref is not None and fast is not None
+    for name in ("dense", "s", "tangent"):
+        assert np.array_equal(getattr(ref, name), getattr(fast, name)), name

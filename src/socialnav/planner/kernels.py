@@ -1307,6 +1307,23 @@ def densify_path(path: NDArray[np.float64], spacing: float) -> NDArray[np.float6
 
 
 @_jit
+def _arc_lengths_kernel(dense, out):  # type: ignore[no-untyped-def]
+    out[0] = 0.0
+    for k in range(1, dense.shape[0]):
+        dx = dense[k, 0] - dense[k - 1, 0]
+        dy = dense[k, 1] - dense[k - 1, 1]
+        out[k] = out[k - 1] + np.sqrt(dx * dx + dy * dy) if k > 1 else np.sqrt(dx * dx + dy * dy)
+
+
+def arc_lengths(dense: NDArray[np.float64]) -> NDArray[np.float64]:
+    """``(P,)`` arc length (m) at each vertex of a ``(P, 2)`` polyline, P >= 1: the values of
+    ``concatenate([[0], cumsum(norm(diff(dense), axis=1))])`` in one pass."""
+    out = np.empty(dense.shape[0])
+    _arc_lengths_kernel(np.ascontiguousarray(dense, dtype=np.float64), out)
+    return out
+
+
+@_jit
 def _plan_cells_kernel(dense, ox, oy, res, costs, unknown):  # type: ignore[no-untyped-def]
     # local_plan_cells' reference: world_to_cell per point, then the first contiguous run of
     # in-grid cells that are not UNKNOWN.
@@ -1516,6 +1533,7 @@ def warmup() -> float:
     bfs_distance(np.ones((3, 3), dtype=bool), np.array([[1, 1]], dtype=np.intp))
     footprint_mask(GridGeometry((4, 4), 0.25), outline, pose)
     dense = densify_path(np.array([[0.0, 0.0], [1.0, 0.5]]), 0.1)
+    arc_lengths(dense)
     plan_cells(GridGeometry((4, 4), 0.25), costs, dense, 255)
     clearance_levels(costs != 0, 3.0, 0, 0, np.zeros((4, 4), np.uint16)[1:3, 1:3])
     time_box(poses)
