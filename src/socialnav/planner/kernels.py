@@ -215,12 +215,20 @@ def _occupancy_kernel(  # type: ignore[no-untyped-def]
         w = 0
         unk = False
         col_hit = False
+        first_need = -1  # the first pose whose outline can touch a hard cell (none: -1)
         for k in range(steps):
             cx = np.floor((poses[i, first + k, 0] - ox) * inv)
             cy = np.floor((poses[i, first + k, 1] - oy) * inv)
             v = 255
             if 0.0 <= cy < rows and 0.0 <= cx < cols:
                 v = costs[int(cy), int(cx)]
+                if footprint and first_need < 0:
+                    if circumscribed < 0:
+                        need = need_table[clearance[int(cy), int(cx)]]
+                    else:
+                        need = k_all if v >= circumscribed else 0
+                    if need > 0:
+                        first_need = k
             if v == 255:
                 unk = True
             elif v >= 253:
@@ -228,11 +236,12 @@ def _occupancy_kernel(  # type: ignore[no-untyped-def]
             elif v > w:
                 w = v
         worst[i] = w
-        if footprint and not unk and not col_hit:
+        if footprint and not unk and not col_hit and first_need >= 0:
             # Outline points per pose (the NumPy reference's need, rounded up to its groups);
-            # after a LETHAL hit the current chunk still finishes, as in the reference.
+            # after a LETHAL hit the current chunk still finishes, as in the reference. Poses
+            # before ``first_need`` check no point: the scan starts there.
             stop = steps
-            for k in range(steps):
+            for k in range(first_need, steps):
                 if k >= stop:
                     break
                 r = int(np.floor((poses[i, first + k, 1] - oy) * inv))
