@@ -67,6 +67,10 @@ PRESENTER_STIFFNESS = 10.0
 #: Slope of the presenter spot's drop cap near the distance range's end (``_presenter_spot``):
 #: within ``r_max − h`` of it the spot drops at most 3× that far below the viewer's depth.
 DROP_CAP_SLOPE = 3.0
+#: Distance scale (m) over which the presenter's heading blends from the nearest viewer toward
+#: a nearly-as-near one (:func:`presenter_pose`); a step at equal distances flipped the heading
+#: by 0.64 rad for a robot 6 cm off the spot (generated gallery_present dev seed 28, PR2).
+FACING_BLEND = 0.1
 
 
 @dataclass(frozen=True, eq=False)
@@ -498,9 +502,9 @@ def presenter_pose(
     ``σ·l = L`` that trades a slightly larger distance for a spot nearer the wall. The
     minimiser is unique and continuous in every input (a stepped search over radii moved it
     ~0.2 m for a 2 mm change of the viewer), so a noisy estimate of the viewer gives a spot
-    near the true one (property test). It faces the viewer, or the nearest of the artwork's
-    viewers when another one stands nearer (the presenter "faces the viewer", scenarios.md;
-    the success check measures the nearest).
+    near the true one (property test). It faces the nearest of the artwork's viewers (the
+    presenter "faces the viewer", scenarios.md; the success check measures the nearest),
+    blended toward another one nearly as near (``_face_nearest``).
 
     If the preferred side has no solution, or ``free_fn`` rejects its spot, the other side is
     used (fallback ``other_side``); with neither, the spot ``(σL, wall_clearance)`` is returned
@@ -546,18 +550,14 @@ def presenter_pose(
     chosen: FloatArray | None = None
     for k, sigma in enumerate(sides):
         lmin = float((sigma * lat).max()) + art_clearance
-        best = _presenter_spot(
-            sigma * lv, dv, r_nominal, lmin, wall_clearance, r_max, stiffness
-        )
+        best = _presenter_spot(sigma * lv, dv, r_nominal, lmin, wall_clearance, r_max, stiffness)
         if best is None:
             continue
         spot = c + sigma * best[0] * t + best[1] * n
         if _first_free(spot[None], free_fn) is None:
             continue
         chosen = spot
-        geometry.update(
-            side=sigma, radius=float(np.linalg.norm(spot - v)), lateral_min=lmin
-        )
+        geometry.update(side=sigma, radius=float(np.linalg.norm(spot - v)), lateral_min=lmin)
         if k > 0:
             fallback = "other_side"
             reason = "no valid spot on the preferred side; presenting from the other side"
@@ -568,24 +568,34 @@ def presenter_pose(
         chosen = c + sigma * lmin * t + wall_clearance * n
         fallback = "no_free_spot"
         reason = "no spot satisfies distance, activity-space and wall constraints"
-    # the viewer the presenter faces: the nearest one (the presented-to viewer unless another
-    # stands nearer the spot)
-    faced = v
-    if others.shape[0]:
-        every = np.vstack([v[None], others])
-        faced = every[int(np.argmin(np.linalg.norm(every - chosen, axis=1)))]
+    yaw = _face_nearest(chosen, np.vstack([v[None], others]))
     bearing = _face(v, chosen)
     geometry["bearing_from_gaze"] = float(wrap_angle(bearing - gaze))
     geometry["viewer_distance"] = float(np.linalg.norm(chosen - v))
     geometry["activity_space_distance"] = float(signed_distance_to_polygon(chosen, poly))
-    geometry["faced_viewer"] = faced
     return SocialGoal(
-        _pose(chosen, _face(chosen, faced)),
+        _pose(chosen, yaw),
         "presenter",
         geometry=geometry,
         fallback=fallback,
         reason=reason,
     )
+
+
+def _face_nearest(spot: FloatArray, viewers: FloatArray) -> float:
+    """Heading (rad) from ``spot (2,)`` toward the nearest of ``viewers (K, 2)``, blended
+    continuously: the mean of the unit bearings weighted ``exp(−(d − d_min)/FACING_BLEND)``.
+    A viewer clearly nearest is faced (within a few degrees); two viewers equally near are
+    split, so the heading is within half their angle of whichever is judged the nearest."""
+    rel = viewers - spot
+    dist = np.linalg.norm(rel, axis=1)
+    if dist.min() <= COINCIDENT_TOL:
+        return 0.0
+    w = np.exp(-(dist - dist.min()) / FACING_BLEND)
+    u = (w[:, None] * rel / dist[:, None]).sum(axis=0)
+    if np.linalg.norm(u) <= COINCIDENT_TOL:  # opposite viewers at one distance: the first
+        u = rel[int(np.argmin(dist))]
+    return float(np.arctan2(u[1], u[0]))
 
 
 def _presenter_spot(
