@@ -640,10 +640,8 @@ def _presenter_spot(
 
     s0 = np.sqrt(max(r**2 - h**2, 0.0))  # the drop where ρ = r: the slope is -1 there
     if s_max <= s0 or slope(s_max) <= 0.0:
-        s = s_max
-    else:
-        s = float(brentq(slope, s0, s_max, xtol=1e-12))
-    return lmin, dv - s
+        return lmin, dv - s_max
+    return lmin, dv - float(brentq(slope, s0, s_max, xtol=1e-12))
 
 
 def activity_space_waypoint(
