@@ -18,6 +18,7 @@ from socialnav.social.perception import (
 from socialnav.social.perception.fformations import (
     FFormationParams,
     facility_location,
+    facing_pairs,
     gcff,
     merge_wide,
 )
@@ -62,6 +63,35 @@ def test_people_facing_a_common_centre_are_one_fformation(k, radius):
     s = est.structures[0]
     assert 0.0 < s.confidence <= 1.0
     np.testing.assert_allclose(s.geometry["ospace_center"], (3.0, -1.0), atol=0.25)
+
+
+@pytest.mark.parametrize("distance", [2.4, 2.7, 3.0])
+def test_a_wide_pair_face_to_face_is_a_group(distance):
+    # generated group_lead dev seeds 4 and 13: two people 2.7 m apart facing each other were
+    # left alone by GCFF, so the robot had no group to lead (both robots failed, context detected)
+    people = circle_group((1.0, 2.0), distance / 2, 2, phase=0.3)
+    est = estimate_once(people)
+    assert kinds(est) == [("fformation", (0, 1))]
+    np.testing.assert_allclose(est.structures[0].geometry["ospace_center"], (1.0, 2.0), atol=1e-9)
+
+
+@pytest.mark.parametrize("case", ["too_far", "one_looks_away", "someone_between", "back_to_back"])
+def test_a_wide_pair_needs_both_facing_closely_and_nobody_between(case):
+    a, b = circle_group((0.0, 0.0), 1.35, 2)
+    if case == "too_far":
+        a, b = circle_group((0.0, 0.0), 1.6, 2)
+    elif case == "one_looks_away":
+        a = Person(a.id, a.position, yaw=a.yaw + np.radians(30.0))
+    elif case == "back_to_back":
+        a, b = (Person(p.id, p.position, yaw=p.yaw + np.pi) for p in (a, b))
+    if case == "someone_between":  # the rule itself: GCFF may group the three
+        two = np.array([a.position, b.position])
+        everyone = np.vstack([two, [[0.1, 0.0]]])
+        args = (np.array([0, 1]), two, np.array([a.yaw, b.yaw]))
+        assert facing_pairs(*args, two, FFormationParams()) != []
+        assert facing_pairs(*args, everyone, FFormationParams()) == []
+        return
+    assert [s for s in estimate_once([a, b]).structures if s.kind == "fformation"] == []
 
 
 def test_people_facing_away_are_not_a_group():

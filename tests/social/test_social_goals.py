@@ -10,6 +10,7 @@ from hypothesis import strategies as st
 from socialnav.core.errors import InvalidInputError
 from socialnav.core.geometry import points_in_polygon, signed_distance_to_polygon, wrap_angle
 from socialnav.social.goals import (
+    PRESENTER_STIFFNESS,
     SocialGoal,
     activity_space_waypoint,
     o_formation_join_pose,
@@ -287,25 +288,120 @@ def test_queue_rejects_bad_input():
 ART = dict(art_center=(13.0, 25.0), art_width=1.2, art_facing=-np.pi / 2)
 
 
-def test_presenter_spot_gallery_present():
-    viewer = np.array([13.0, 23.5])
+def brute_force_presenter(viewer, lmin, r=1.2, k=PRESENTER_STIFFNESS, wc=0.5, r_max=1.6):
+    """The minimiser of k(ρ − r)² + d over a 2 mm grid of the feasible set of :data:`ART`
+    (lateral toward −x, mirrored so the side is +; depth from the wall at y = 25)."""
+    xv, dv = 13.0 - viewer[0], 25.0 - viewer[1]
+    x, d = np.meshgrid(np.arange(lmin, lmin + 1.6, 0.002), np.arange(wc, wc + 2.5, 0.002))
+    rho = np.hypot(x - xv, d - dv)
+    cost = np.where(rho <= r_max, k * (rho - r) ** 2 + d, np.inf)
+    i = np.unravel_index(np.argmin(cost), cost.shape)
+    return np.array([13.0 - x[i], 25.0 - d[i]])
+
+
+@pytest.mark.parametrize(
+    "viewer",
+    [
+        (13.0, 23.5),  # the 1.2 m circle stays above the wall band beside the art: edge x = L
+        (13.0, 24.0),  # it reaches the band: the spot is on the circle, 0.5 m from the wall
+        (13.3, 23.2),  # farther from the robot's side: a larger distance
+    ],
+)
+def test_presenter_spot_minimises_its_cost(viewer):
+    viewer = np.array(viewer)
     goal = presenter_pose(
         **ART, viewer_position=viewer, viewer_yaw=np.pi / 2, robot_position=(5, 17)
     )
-    # hand computation: lateral 0.6 + 0.35 = 0.95 beside the art (robot side, −x), on the 1.2 m
-    # circle around the viewer: depth from the wall 1.5 − sqrt(1.2² − 0.95²)
-    depth = 1.5 - np.sqrt(1.2**2 - 0.95**2)
-    assert_pose(goal, (12.05, 25.0 - depth), np.arctan2(23.5 - (25 - depth), 13 - 12.05))
     assert goal.kind == "presenter" and goal.fallback is None
+    poly = activity_space_polygon(ART["art_center"], 1.2, -np.pi / 2, viewer)
+    lmin = float((13.0 - poly[:, 0]).max()) + 0.35  # the robot's side is −x
+    assert goal.geometry["lateral_min"] == pytest.approx(lmin)
+    np.testing.assert_allclose(goal.position, brute_force_presenter(viewer, lmin), atol=4e-3)
     # the constraints of scenarios.md
     dist = np.linalg.norm(goal.position - viewer)
     assert 0.9 <= dist <= 1.6
-    poly = activity_space_polygon(ART["art_center"], 1.2, -np.pi / 2, viewer)
-    assert signed_distance_to_polygon(goal.position, poly) > 0.3
-    assert 25.0 - goal.position[1] >= 0.5  # clear of the wall
-    assert abs(goal.position[0] - 13.0) > 0.6  # beside the artwork, not in front of it
+    assert signed_distance_to_polygon(goal.position, poly) >= 0.35 - 1e-9
+    assert 25.0 - goal.position[1] >= 0.5 - 1e-9  # clear of the wall
+    assert goal.position[0] < 12.4  # beside the artwork, not in front of it
     d = viewer - goal.position
     assert goal.yaw == pytest.approx(np.arctan2(d[1], d[0]))  # faces the viewer
+
+
+def test_presenter_spot_on_the_circle_when_it_reaches_the_wall_band():
+    # hand computation: viewer 1.0 m from the wall, the 1.2 m circle meets the band's edge
+    # (0.5 m from the wall) at lateral 13 − sqrt(1.2² − 0.5²) = 11.909, beside 12.05
+    goal = presenter_pose(
+        **ART, viewer_position=(13.0, 24.0), viewer_yaw=np.pi / 2, robot_position=(5, 17)
+    )
+    np.testing.assert_allclose(goal.position, [13.0 - np.sqrt(1.2**2 - 0.5**2), 24.5], atol=1e-9)
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    lateral=st.floats(-1.0, 1.0),
+    depth=st.floats(0.8, 2.5),
+    width=st.floats(0.4, 2.0),
+    clearance=st.floats(0.35, 0.6),
+    angle=st.floats(-np.pi, np.pi),
+    step=st.floats(1e-4, 2e-3),
+    robot_x=st.sampled_from([-8.0, 8.0]),
+)
+def test_presenter_spot_is_continuous_in_the_viewer(
+    lateral, depth, width, clearance, angle, step, robot_x
+):
+    # a 2 mm change of the viewer moved the stepped-radius spot by ~0.2 m (generated
+    # gallery_present with the context detected); the spot now moves at most a few times as
+    # far as the viewer (away from a change of side, a discrete choice)
+    art, facing = np.array([0.0, 0.0]), np.pi / 2
+    viewer = np.array([lateral, depth])
+    moved = viewer + step * np.array([np.cos(angle), np.sin(angle)])
+    kw = dict(robot_position=(robot_x, 3.0), art_clearance=clearance)
+    a = presenter_pose(art, width, facing, viewer, -np.pi / 2, **kw)
+    b = presenter_pose(art, width, facing, moved, -np.pi / 2, **kw)
+    assume(a.geometry.get("side") == b.geometry.get("side") and a.fallback == b.fallback)
+    assert np.linalg.norm(b.position - a.position) <= 4.0 * step + 1e-9
+    assert abs(float(wrap_angle(b.yaw - a.yaw))) <= 4.0 * step / 0.9 + 1e-9
+
+
+def test_presenter_spot_keeps_out_of_every_viewer_and_faces_the_nearest():
+    # generated gallery_present dev seed 28 (Pioneer, context given): the spot faced the
+    # viewer it was built for while another viewer stood nearer (facing_viewer failed)
+    viewer, other = np.array([13.3, 23.8]), np.array([12.6, 23.0])
+    kw = dict(**ART, viewer_yaw=np.pi / 2, robot_position=(5, 17))
+    goal = presenter_pose(**kw, viewer_position=viewer, other_viewers=[other])
+    for v in (viewer, other):
+        poly = activity_space_polygon(ART["art_center"], 1.2, -np.pi / 2, v)
+        assert signed_distance_to_polygon(goal.position, poly) >= 0.35 - 1e-9
+    nearest = min((viewer, other), key=lambda v: np.linalg.norm(v - goal.position))
+    d = nearest - goal.position
+    assert abs(float(wrap_angle(goal.yaw - np.arctan2(d[1], d[0])))) <= 0.5  # facing_viewer
+    alone = presenter_pose(**kw, viewer_position=viewer)
+    assert nearest is other  # the other viewer is the nearer one here
+    d = other - alone.position
+    assert abs(float(wrap_angle(alone.yaw - np.arctan2(d[1], d[0])))) > 0.5  # the old failure
+
+
+def test_presenter_facing_holds_near_the_spot_between_two_viewers():
+    # generated gallery_present dev seed 28 (PR2, context given): the spot is about as far from
+    # viewers 1 and 2 (0.64 rad apart); facing the strictly nearest one failed ``facing_viewer``
+    # for a robot 6 cm off the spot, where the other was the nearest
+    viewers = np.array([[3.584, 1.955], [4.049, 1.172], [4.202, 2.424]])
+    goal = presenter_pose(
+        (3.717, 0.0),
+        1.12,
+        1.571,
+        viewers[1],
+        -1.718,
+        robot_position=(1.97, 7.778),
+        art_clearance=0.51,
+        other_viewers=viewers[[0, 2]],
+    )
+    dist = np.sort(np.linalg.norm(viewers - goal.position, axis=1))
+    assert dist[1] - dist[0] < 0.05  # the tie of the seed
+    for a in np.linspace(0, 2 * np.pi, 16, endpoint=False):
+        p = goal.position + 0.1 * np.array([np.cos(a), np.sin(a)])
+        near = viewers[np.argmin(np.linalg.norm(viewers - p, axis=1))] - p
+        assert abs(float(wrap_angle(goal.yaw - np.arctan2(near[1], near[0])))) <= 0.5
 
 
 def test_presenter_side_follows_robot_and_mirrors():

@@ -304,6 +304,13 @@ class StickySocialGoal:
     by id: with a detected context the tracks' order changes (a missed person is coasted
     last) and false positives come and go; neither is a reason to move the goal, as long as
     they belong to no structure.
+
+    Between those, a member of a structure whose estimate drifted more than ``refine`` metres
+    (a detected context's running mean settling) re-resolves the goal from the robot pose of
+    the last full resolution: the goal follows the better estimate (the social-goal rules are
+    continuous in the people's positions) but not the robot, so choices keyed on the robot's
+    pose (the presenting side, gap ties) stay as first made. With the context given, standing
+    members never move and this never fires.
     """
 
     def __init__(
@@ -311,11 +318,15 @@ class StickySocialGoal:
         moved: float = 0.3,
         tolerance: tuple[float, float] | None = None,
         art_clearance: float = 0.35,
+        refine: float = 0.01,
     ) -> None:
         self.moved = moved
+        self.refine = refine
         self.tolerance = tolerance
         self.art_clearance = art_clearance
         self._positions: dict[int, tuple[float, float]] | None = None
+        self._refined: dict[int, tuple[float, float]] = {}
+        self._pose: np.ndarray | None = None
         self._structures: tuple[Any, ...] | None = None
         self._goal: SocialGoal | None = None
 
@@ -323,8 +334,6 @@ class StickySocialGoal:
         self, social: SocialContext, given_goal: np.ndarray, pose: np.ndarray
     ) -> SocialGoal | None:
         """The social goal for ``given_goal (3,)`` seen from ``pose (3,)``, or None."""
-        from socialnav.social.resolve import resolve_social_goal
-
         positions = {p.id: p.position for p in social.people}
         structures = (
             tuple((g.member_ids, g.mode) for g in social.groups),
@@ -342,17 +351,39 @@ class StickySocialGoal:
                 if i in last
             )
         )
-        if stale:
-            self._goal = resolve_social_goal(
-                social, given_goal, pose, art_clearance=self.art_clearance
+        members = {
+            i
+            for ids in (
+                *(g.member_ids for g in social.groups),
+                *(q.member_ids for q in social.queues),
+                *(a.viewer_ids for a in social.artworks),
+                *(x.member_ids for x in social.structures),
             )
-            if self._goal is not None and self.tolerance is not None and not self._goal.is_waypoint:
-                from dataclasses import replace
-
-                xy, yaw = self.tolerance
-                self._goal = replace(self._goal, position_tolerance=xy, yaw_tolerance=yaw)
+            for i in ids
+        }
+        if stale:
+            self._resolve(social, given_goal, pose)
+            self._pose = np.array(pose, dtype=float)
             self._positions, self._structures = positions, structures
+            self._refined = {i: positions[i] for i in members if i in positions}
+        elif self._pose is not None and any(
+            math.hypot(x - self._refined[i][0], y - self._refined[i][1]) > self.refine
+            for i, (x, y) in positions.items()
+            if i in self._refined
+        ):
+            self._resolve(social, given_goal, self._pose)
+            self._refined = {i: positions[i] for i in members if i in positions}
         return self._goal
+
+    def _resolve(self, social: SocialContext, given_goal: np.ndarray, pose: np.ndarray) -> None:
+        from socialnav.social.resolve import resolve_social_goal
+
+        self._goal = resolve_social_goal(social, given_goal, pose, art_clearance=self.art_clearance)
+        if self._goal is not None and self.tolerance is not None and not self._goal.is_waypoint:
+            from dataclasses import replace
+
+            xy, yaw = self.tolerance
+            self._goal = replace(self._goal, position_tolerance=xy, yaw_tolerance=yaw)
 
 
 class SceneObjectives:

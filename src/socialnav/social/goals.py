@@ -33,6 +33,7 @@ from typing import Any, Literal
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
+from scipy.optimize import brentq
 
 from socialnav.core.errors import InvalidInputError
 from socialnav.core.geometry import FloatArray, as_points, signed_distance_to_polygon, wrap_angle
@@ -58,6 +59,18 @@ YAW_TOLERANCE = 0.25
 WAYPOINT_TOLERANCE = 0.5
 #: Gaps whose widths differ by less than this (rad) are ties (broken by robot proximity).
 GAP_TIE_TOL = 1e-3
+#: The presenter spot's cost ``k·(ρ − social_distance)² + depth`` (:func:`presenter_pose`):
+#: ``k`` (1/m). At 10 the spot keeps within ~0.07 m of the social distance while that circle
+#: reaches beside the activity space, and moves at most ~1.4 m per metre the viewer moves
+#: where it does not (a larger ``k`` approaches the exact circle and its steep tangent).
+PRESENTER_STIFFNESS = 10.0
+#: Slope of the presenter spot's drop cap near the distance range's end (``_presenter_spot``):
+#: within ``r_max − h`` of it the spot drops at most 3× that far below the viewer's depth.
+DROP_CAP_SLOPE = 3.0
+#: Distance scale (m) over which the presenter's heading blends from the nearest viewer toward
+#: a nearly-as-near one (:func:`presenter_pose`); a step at equal distances flipped the heading
+#: by 0.64 rad for a robot 6 cm off the spot (generated gallery_present dev seed 28, PR2).
+FACING_BLEND = 0.1
 
 
 @dataclass(frozen=True, eq=False)
@@ -467,40 +480,62 @@ def presenter_pose(
     art_clearance: float = 0.35,
     wall_clearance: float = 0.5,
     shoulder: float = 0.3,
+    radius_stiffness: float = PRESENTER_STIFFNESS,
+    other_viewers: ArrayLike | None = None,
     free_fn: FreeFn | None = None,
 ) -> SocialGoal:
     """Where a robot presents an artwork to its viewer (the paper hand-selects it).
 
     Work in the artwork frame: lateral ``l`` along the wall (tangent = facing + 90°) and depth
-    ``d`` along the facing normal (into the room). The spot lies
+    ``d`` along the facing normal (into the room). The spot ``p`` lies
 
-    - on the circle of radius ``social_distance`` (m) around the viewer,
     - beside the artwork on side ``σ`` (the robot's side, else +tangent): ``σ·l >= L`` where
-      ``L`` = the activity space's lateral extent on that side + ``art_clearance`` (m), so it is
-      outside the activity space,
+      ``L`` = the lateral extent on that side of the viewer's activity space (and of those of
+      ``other_viewers (K, 2)``, the artwork's other viewers) + ``art_clearance`` (m), so it is
+      outside every activity space,
     - at least ``wall_clearance`` (m) from the wall (``d >= wall_clearance``),
+    - at a distance ``ρ = |p − viewer|`` within ``distance_range`` (m),
 
-    and, among those points, as close to the wall as possible (smallest ``d``: "beside the art").
-    It faces the viewer. If no point qualifies, other radii in ``distance_range`` are tried
-    (closest to ``social_distance`` first), then the other side (fallback ``other_side``); with
-    no solution at all the spot ``(σL, wall_clearance)`` is returned (``no_free_spot``).
-    A viewer not in front of the wall (``d <= 0``: "in the wall") gives fallback
-    ``viewer_not_in_front``. ``viewer_yaw`` is used only to report the spot's bearing from the
-    viewer's gaze (``geometry['bearing_from_gaze']``).
+    and minimises ``k·(ρ − social_distance)² + d`` (``k`` = ``radius_stiffness``, 1/m): on the
+    ``social_distance`` circle as close to the wall as possible ("beside the art") when that
+    circle reaches the wall band beside the activity space, else the point of the edge
+    ``σ·l = L`` that trades a slightly larger distance for a spot nearer the wall. The
+    minimiser is unique and continuous in every input (a stepped search over radii moved it
+    ~0.2 m for a 2 mm change of the viewer), so a noisy estimate of the viewer gives a spot
+    near the true one (property test). It faces the nearest of the artwork's viewers (the
+    presenter "faces the viewer", scenarios.md; the success check measures the nearest),
+    blended toward another one nearly as near (``_face_nearest``).
+
+    If the preferred side has no solution, or ``free_fn`` rejects its spot, the other side is
+    used (fallback ``other_side``); with neither, the spot ``(σL, wall_clearance)`` is returned
+    (``no_free_spot``). A viewer not in front of the wall (``d <= 0``: "in the wall") gives
+    fallback ``viewer_not_in_front``. ``viewer_yaw`` is used only to report the spot's bearing
+    from the viewer's gaze (``geometry['bearing_from_gaze']``). Raises
+    :class:`~socialnav.core.errors.InvalidInputError` on NaN, wrong shapes, a non-positive
+    ``radius_stiffness`` or a ``distance_range`` that does not hold ``social_distance``.
     """
     c, width, facing, v = _art_inputs(art_center, art_width, art_facing, viewer_position)
     gaze = _scalar(viewer_yaw, "viewer_yaw")
     r_nominal = _scalar(social_distance, "social_distance", positive=True)
+    stiffness = _scalar(radius_stiffness, "radius_stiffness", positive=True)
+    r_min, r_max = (_scalar(x, "distance_range") for x in distance_range)
+    if not r_min <= r_nominal <= r_max:
+        raise InvalidInputError(
+            f"distance_range {distance_range} must hold social_distance {r_nominal}"
+        )
     robot = _point(robot_position, "robot_position")
+    others = (
+        np.zeros((0, 2)) if other_viewers is None else as_points(other_viewers, "other_viewers")
+    )
+    others = others.reshape(-1, 2)
     n, t = art_frame(facing)
     poly = activity_space_polygon(c, width, facing, v, shoulder)
+    polys = [poly] + [activity_space_polygon(c, width, facing, o, shoulder) for o in others]
     lv, dv = float((v - c) @ t), float((v - c) @ n)
-    lat = (poly - c) @ t
+    lat = np.concatenate([(p - c) @ t for p in polys])
     sides = [1.0, -1.0]
     if robot is not None and (robot - c) @ t < 0:
         sides = [-1.0, 1.0]
-    radii = np.linspace(distance_range[0], distance_range[1], 15)
-    radii = np.concatenate([[r_nominal], radii[np.argsort(np.abs(radii - r_nominal))]])
     geometry: dict[str, Any] = {
         "activity_space": poly,
         "normal": n,
@@ -515,33 +550,31 @@ def presenter_pose(
     chosen: FloatArray | None = None
     for k, sigma in enumerate(sides):
         lmin = float((sigma * lat).max()) + art_clearance
-        for r in radii:
-            best = _presenter_candidate(lv, dv, r, sigma, lmin, wall_clearance)
-            if best is None:
-                continue
-            spot = c + best[0] * t + best[1] * n
-            if _first_free(spot[None], free_fn) is None:
-                continue
-            chosen = spot
-            geometry.update(side=sigma, radius=float(r), lateral_min=lmin)
-            if k > 0:
-                fallback = "other_side"
-                reason = "no valid spot on the preferred side; presenting from the other side"
-            break
-        if chosen is not None:
-            break
+        best = _presenter_spot(sigma * lv, dv, r_nominal, lmin, wall_clearance, r_max, stiffness)
+        if best is None:
+            continue
+        spot = c + sigma * best[0] * t + best[1] * n
+        if _first_free(spot[None], free_fn) is None:
+            continue
+        chosen = spot
+        geometry.update(side=sigma, radius=float(np.linalg.norm(spot - v)), lateral_min=lmin)
+        if k > 0:
+            fallback = "other_side"
+            reason = "no valid spot on the preferred side; presenting from the other side"
+        break
     if chosen is None:
         sigma = sides[0]
         lmin = float((sigma * lat).max()) + art_clearance
         chosen = c + sigma * lmin * t + wall_clearance * n
         fallback = "no_free_spot"
         reason = "no spot satisfies distance, activity-space and wall constraints"
+    yaw = _face_nearest(chosen, np.vstack([v[None], others]))
     bearing = _face(v, chosen)
     geometry["bearing_from_gaze"] = float(wrap_angle(bearing - gaze))
     geometry["viewer_distance"] = float(np.linalg.norm(chosen - v))
     geometry["activity_space_distance"] = float(signed_distance_to_polygon(chosen, poly))
     return SocialGoal(
-        _pose(chosen, _face(chosen, v)),
+        _pose(chosen, yaw),
         "presenter",
         geometry=geometry,
         fallback=fallback,
@@ -549,25 +582,66 @@ def presenter_pose(
     )
 
 
-def _presenter_candidate(
-    lv: float, dv: float, r: float, sigma: float, lmin: float, wc: float
+def _face_nearest(spot: FloatArray, viewers: FloatArray) -> float:
+    """Heading (rad) from ``spot (2,)`` toward the nearest of ``viewers (K, 2)``, blended
+    continuously: the mean of the unit bearings weighted ``exp(−(d − d_min)/FACING_BLEND)``.
+    A viewer clearly nearest is faced (within a few degrees); two viewers equally near are
+    split, so the heading is within half their angle of whichever is judged the nearest."""
+    rel = viewers - spot
+    dist = np.linalg.norm(rel, axis=1)
+    if dist.min() <= COINCIDENT_TOL:
+        return 0.0
+    w = np.exp(-(dist - dist.min()) / FACING_BLEND)
+    u = (w[:, None] * rel / dist[:, None]).sum(axis=0)
+    if np.linalg.norm(u) <= COINCIDENT_TOL:  # opposite viewers at one distance: the first
+        u = rel[int(np.argmin(dist))]
+    return float(np.arctan2(u[1], u[0]))
+
+
+def _presenter_spot(
+    xv: float, dv: float, r: float, lmin: float, wc: float, r_max: float, k: float
 ) -> tuple[float, float] | None:
-    """Lowest-depth point ``(l, d)`` on the circle around ``(lv, dv)`` of radius ``r`` with
-    ``σl >= lmin`` and ``d >= wc``; ``None`` when there is none."""
-    tol = 1e-9  # tangent cases must not flip with rounding (rigid-motion equivariance)
-    cands: list[tuple[float, float]] = [(lv, dv - r)]
-    disc = r**2 - (dv - wc) ** 2
-    if disc >= -tol:
-        root = np.sqrt(max(disc, 0.0))
-        cands += [(lv + root, wc), (lv - root, wc)]
-    disc = r**2 - (sigma * lmin - lv) ** 2
-    if disc >= -tol:
-        root = np.sqrt(max(disc, 0.0))
-        cands += [(sigma * lmin, dv - root), (sigma * lmin, dv + root)]
-    ok = [(l_, d_) for l_, d_ in cands if sigma * l_ >= lmin - tol and d_ >= wc - tol]
-    if not ok:
+    """The minimiser ``(x, d)`` of ``k·(ρ − r)² + d`` over ``x >= lmin``, ``d >= wc`` and
+    ``ρ = |(x, d) − (xv, dv)| <= r_max`` (lateral ``x`` mirrored so the side is +), or ``None``
+    when that set is empty. ``xv < lmin`` (the viewer is inside its own activity space).
+
+    The cost along the edge ``d = wc`` is least at ``ρ = r``; when that point lies beside the
+    activity space (``x >= lmin``) it is the global minimum (cost ``wc``, and no point has
+    ``d < wc``). Otherwise the minimum lies on the edge ``x = lmin``: with the drop
+    ``s = dv − d`` below the viewer, ``ρ = hypot(h, s)`` (``h = lmin − xv``) and the cost's
+    derivative ``2k(ρ − r)s/ρ − 1`` is negative up to its single root (past ``ρ = r``) and
+    positive after it, so the minimiser is that root clipped to the feasible drops: at most
+    ``dv − wc`` (the wall band), ``sqrt(r_max² − h²)`` (the distance range) and
+    ``C·(r_max − h)`` (``C`` = ``DROP_CAP_SLOPE``), which moves the spot to the tangent point
+    with a bounded slope as the edge recedes to ``r_max`` (where the other side takes over).
+    """
+    a = dv - wc
+    if abs(a) <= r:
+        x_wall = xv + np.sqrt(r**2 - a**2)
+        if x_wall >= lmin:
+            return float(x_wall), wc
+    h = max(lmin - xv, 0.0)
+    if h > r_max:
         return None
-    return min(ok, key=lambda ld: (ld[1], sigma * ld[0]))
+    reach = np.sqrt(r_max**2 - h**2)  # the largest drop the distance range allows
+    if a < -reach:
+        return None
+    # near the range's end the bare reach is a tangent (infinitely steep in h): the drop is
+    # also capped by C·(r_max − h), which falls to 0 there with slope C; C >= r/(r_max − r)
+    # keeps that cap clear of every drop on the way to the corner (where ρ <= r, h <= r)
+    cap = reach
+    if r < r_max:
+        cap = min(reach, max(DROP_CAP_SLOPE, r / (r_max - r)) * (r_max - h))
+    s_max = min(a, cap)
+
+    def slope(s: float) -> float:
+        rho = float(np.hypot(h, s))
+        return 2.0 * k * (rho - r) * s / rho - 1.0 if rho > 0 else -1.0
+
+    s0 = np.sqrt(max(r**2 - h**2, 0.0))  # the drop where ρ = r: the slope is -1 there
+    if s_max <= s0 or slope(s_max) <= 0.0:
+        return lmin, dv - s_max
+    return lmin, dv - float(brentq(slope, s0, s_max, xtol=1e-12))
 
 
 def activity_space_waypoint(

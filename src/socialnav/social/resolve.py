@@ -166,6 +166,7 @@ def resolve_social_goal_detailed(
             poly = activity_space_polygon(art.center, art.width, art.facing, v)
             anchor = float(np.linalg.norm(g - v))
             if anchor <= viewer_radius or bool(points_in_polygon(g, poly)):
+                others = [social.person(o).position for o in art.viewer_ids if o != vid]
                 spot = presenter_pose(
                     art.center,
                     art.width,
@@ -174,6 +175,7 @@ def resolve_social_goal_detailed(
                     viewer.yaw,
                     robot_position=robot,
                     art_clearance=art_clearance,
+                    other_viewers=np.asarray(others, dtype=float).reshape(-1, 2),
                     free_fn=free_fn,
                 )
                 found.append((anchor, 2, spot))

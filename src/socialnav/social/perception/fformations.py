@@ -38,9 +38,13 @@ F-formations"); the o-space is Kendon's (Conducting Interaction, 1990).
    priced it), its members surround the centre (no angular gap between neighbours, seen from
    it, wider than π + ``heading_tolerance``: the o-space is enclosed by the p-space) and every
    member faces it within ``merge_facing``. ``max_stride <= stride`` turns the step off
-   (GCFF as published). Two people alone are never merged into a pair here, so a pair or a
-   triple whose members are all left alone by GCFF (members more than ~2.3 m apart) stays
-   undetected.
+   (GCFF as published). Two people alone are never merged into a pair here.
+5. **Wide pairs** (:func:`facing_pairs`, in :class:`FFormationDetector`). Two people GCFF
+   leaves alone (more than ~2.3 m apart) who face each other within ``pair_facing`` (20°, as
+   ``merge_facing``), at most ``pair_max_distance`` (3 m: the widest pair of the project's
+   group scenarios, radius 1.5 m; inside Hall's 1.2–3.6 m social-consultative distance) apart,
+   with nobody between them, form a pair (Kendon's vis-à-vis arrangement). A triple whose
+   members are all left alone stays undetected. ``pair_max_distance = 0`` turns it off.
 
 Parameters (metres, radians; defaults fitted on the Cristani et al. *Synth* data only, see
 ``benchmarks/bench_context.py --fit``): ``stride`` D, ``sigma`` σ, ``sigma_along``, ``mdl``,
@@ -112,6 +116,8 @@ class FFormationParams:
     standing_speed: float = STANDING_SPEED
     reuse_distance: float = 0.02
     reuse_angle: float = float(np.radians(3.0))
+    pair_max_distance: float = 3.0
+    pair_facing: float = float(np.radians(20.0))
 
 
 def votes(positions: FloatArray, yaws: FloatArray, stride: float) -> FloatArray:
@@ -437,6 +443,63 @@ def _labels_reference(
     return labels
 
 
+def facing_pairs(
+    ids: np.ndarray,
+    positions: FloatArray,
+    yaws: FloatArray,
+    everyone: FloatArray,
+    params: FFormationParams,
+) -> list[Candidate]:
+    """Step 5 of the module docstring: wide face-to-face pairs among people GCFF left alone.
+
+    ``ids (K,)``, ``positions (K, 2)``, ``yaws (K,)``: the standing people in no group;
+    ``everyone (N, 2)``: all tracked positions (occluders). Two of them form a pair when they
+    are at most ``pair_max_distance`` (m) apart, each faces the other within ``pair_facing``
+    (rad) and nobody else stands within ``occlusion_radius`` of the segment between them;
+    the best-facing pairs are taken first, each person in one pair at most. Centre: the
+    midpoint; score ``1 − worst facing error / pair_facing``.
+    """
+    p = params
+    k = positions.shape[0]
+    found: list[tuple[float, int, int]] = []
+    for a in range(k):
+        for b in range(a + 1, k):
+            d = positions[b] - positions[a]
+            dist = float(np.hypot(*d))
+            if not 1e-6 < dist <= p.pair_max_distance:
+                continue
+            bearing = np.arctan2(d[1], d[0])
+            off = np.array([bearing - yaws[a], bearing + np.pi - yaws[b]])
+            err = float(np.abs(np.arctan2(np.sin(off), np.cos(off))).max())
+            if err > p.pair_facing:
+                continue
+            rel = everyone - positions[a]
+            t = np.clip(rel @ d / dist**2, 0.0, 1.0)
+            gap = np.hypot(*(rel - t[:, None] * d).T)
+            ends = (np.hypot(*rel.T) <= 1e-6) | (np.hypot(*(everyone - positions[b]).T) <= 1e-6)
+            if np.any((gap < p.occlusion_radius) & ~ends):
+                continue
+            found.append((err, a, b))
+    out: list[Candidate] = []
+    used: set[int] = set()
+    for err, a, b in sorted(found):
+        if a in used or b in used:
+            continue
+        used |= {a, b}
+        center = 0.5 * (positions[a] + positions[b])
+        radius = 0.5 * float(np.hypot(*(positions[b] - positions[a])))
+        members = tuple(sorted((int(ids[a]), int(ids[b]))))
+        out.append(
+            Candidate(
+                "fformation",
+                members,
+                float(1.0 - err / p.pair_facing),
+                geometry={"ospace_center": center, "ospace_radius": radius},
+            )
+        )
+    return out
+
+
 @dataclass
 class _Solved:
     """One component's last solve: the inputs it was solved on and its candidates."""
@@ -493,6 +556,9 @@ class FFormationDetector(ParamDetector[FFormationParams]):
             solved[key] = last
             out.extend(last.candidates)
         self._solved = solved  # components gone this cycle are forgotten
+        taken = {i for c in out for i in c.members}
+        alone = np.array([k for k, i in enumerate(ids) if int(i) not in taken], dtype=int)
+        out.extend(facing_pairs(ids[alone], pos[alone], yaw[alone], frame.positions, p))
         return out
 
     def _reusable(self, last: _Solved, pos: FloatArray, yaw: FloatArray) -> bool:
