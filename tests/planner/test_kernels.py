@@ -525,3 +525,34 @@ def test_proxemic_layer_identical(
     amplitude, variance, cutoff, factor = params
     args = (geo, pos, vel, amplitude, variance, cutoff, factor, passing)
     assert np.array_equal(kernels.proxemic_costs(*args), proxemic_costs(*args))
+
+
+@settings(max_examples=40)
+@given(
+    seed=st.integers(0, 2**31 - 1),
+    discs=st.integers(0, 60),
+    res=st.sampled_from([0.025, 0.05, 0.1, 0.3, 0.25]),
+)
+def test_disc_raster_identical(seed: int, discs: int, res: float) -> None:
+    """The compiled disc rasterizer marks the reference's cells: discs on, across and off the
+    grid's edges, radius 0 to larger than the grid, cell-aligned centres (ties at ``r²``)."""
+    rng = np.random.default_rng(seed)
+    shape = tuple(int(v) for v in rng.integers(1, 90, 2))
+    # A binary resolution and origin make exact ties at r² (centre on a cell centre, radius
+    # a whole number of cells).
+    origin = rng.integers(-12, 12, 2) * 0.25 if res == 0.25 else rng.uniform(-3, 3, 2)
+    geo = GridGeometry(shape, res, (float(origin[0]), float(origin[1])))
+    lo = np.array(geo.origin) - 1.0
+    hi = np.array(geo.origin) + res * np.array(shape[::-1]) + 1.0
+    d = np.column_stack([rng.uniform(lo, hi, (discs, 2)), rng.exponential(0.4, discs)])
+    if discs:
+        d[: discs // 3, :2] = (
+            np.array(geo.origin) + (rng.integers(0, 20, (discs // 3, 2)) + 0.5) * res
+        )
+        d[: discs // 4, 2] = res * rng.integers(0, 5, discs // 4)
+    out = {}
+    for flag in (False, True):
+        with compiled(flag):
+            out[flag] = rasterize(geo, discs=d)
+    assert out[True].dtype == np.bool_
+    assert np.array_equal(out[False], out[True])
