@@ -262,7 +262,7 @@ def test_warmup_covers_selection_search_and_layers() -> None:
     fns = {
         "astar": kernels._astar_kernel,
         "proxemic": kernels._proxemic_exponents,
-        "scatter": kernels._scatter_max,
+        "scatter": kernels._scatter_cost,
         "s_star": paccet._s_star_kernel,
         "front": nondominated._front_kernel,
     }
