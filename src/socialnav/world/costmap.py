@@ -117,31 +117,50 @@ def add_obstacle_discs(
 def _disc_costs(boundary, boxes, reach, table, raw):  # type: ignore[no-untyped-def]
     """:func:`_disc_inflation`'s per-disc loop: for each disc box ``(r0, r1, c0, c1)`` the
     squared offset of every cell within ``reach`` to the nearest boundary cell in the box, its
-    cost from ``table``, maximum into ``raw`` (integers and maxima: identical)."""
+    cost from ``table``, maximum into ``raw`` (integers and maxima: identical). The nearest
+    is found row by row: ``min`` over the box's rows ``i'`` of ``(i - i')²`` plus the squared
+    column offset to the nearest boundary cell of row ``i'`` (two sweeps), the same minimum
+    as over every boundary cell."""
     rows, cols = raw.shape
     last = table.size - 1
-    src_r = np.empty(boundary.size, dtype=np.int64)
-    src_c = np.empty(boundary.size, dtype=np.int64)
+    far = 1 << 40
     for d in range(boxes.shape[0]):
         r0, r1, c0, c1 = boxes[d, 0], boxes[d, 1], boxes[d, 2], boxes[d, 3]
         if c0 >= c1 or r0 >= r1:
             continue
-        m = 0
+        v0, v1 = max(c0 - reach, 0), min(c1 + reach, cols)
+        width = v1 - v0
+        near = np.full((r1 - r0, width), far, dtype=np.int64)  # column offset, squared
+        used = np.zeros(r1 - r0, dtype=np.bool_)
         for i in range(r0, r1):
-            for j in range(c0, c1):
-                if boundary[i, j]:
-                    src_r[m] = i
-                    src_c[m] = j
-                    m += 1
-        if m == 0:
+            row = near[i - r0]
+            at = -1  # last boundary column seen (left to right)
+            for j in range(v0, v1):
+                if c0 <= j < c1 and boundary[i, j]:
+                    at = j
+                    used[i - r0] = True
+                if at >= 0:
+                    row[j - v0] = (j - at) * (j - at)
+            if not used[i - r0]:
+                continue
+            at = -1
+            for j in range(v1 - 1, v0 - 1, -1):
+                if c0 <= j < c1 and boundary[i, j]:
+                    at = j
+                if at >= 0:
+                    q = (at - j) * (at - j)
+                    if q < row[j - v0]:
+                        row[j - v0] = q
+        if not used.any():
             continue
         for i in range(max(r0 - reach, 0), min(r1 + reach, rows)):
-            for j in range(max(c0 - reach, 0), min(c1 + reach, cols)):
+            for j in range(v0, v1):
                 best = last
-                for k in range(m):
-                    dr = i - src_r[k]
-                    dc = j - src_c[k]
-                    n = dr * dr + dc * dc
+                for k in range(r1 - r0):
+                    if not used[k]:
+                        continue
+                    dr = i - (r0 + k)
+                    n = dr * dr + near[k, j - v0]
                     if n < best:
                         best = n
                 cost = table[best]
