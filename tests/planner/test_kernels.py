@@ -556,3 +556,45 @@ def test_disc_raster_identical(seed: int, discs: int, res: float) -> None:
             out[flag] = rasterize(geo, discs=d)
     assert out[True].dtype == np.bool_
     assert np.array_equal(out[False], out[True])
+
+
+@settings(max_examples=25)
+@given(seed=st.integers(0, 2**31 - 1), searches=st.integers(2, 6))
+def test_kept_search_workspace_equals_fresh_arrays(seed: int, searches: int) -> None:
+    """A* on the thread's kept arrays (only the last search's entries reset) returns exactly
+    the arrays of a fresh search, over a sequence of maps, sizes, goals and exhaustive runs;
+    two threads searching at once each get their own results."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    from socialnav.planner.global_planner import _OFFSETS, traversable
+
+    if not kernels.enabled():
+        pytest.skip("reference path selected")
+    rng = np.random.default_rng(seed)
+    offsets = np.array(_OFFSETS)
+    steps = np.array([0.1 * float(np.hypot(dr, dc)) for dr, dc in _OFFSETS])
+    cases = []
+    sizes = [tuple(int(v) for v in rng.integers(3, 40, 2)) for _ in range(2)]
+    for k in range(searches):
+        shape = sizes[0] if k < 2 else sizes[int(rng.integers(2))]  # same size: kept arrays
+        costs = rng.integers(0, 253, shape).astype(np.uint8)
+        costs[rng.random(shape) < rng.uniform(0.0, 0.4)] = 254
+        n = costs.size
+        goal = int(rng.integers(-1, n))
+        cases.append((costs, traversable(costs), int(rng.integers(n)), goal))
+
+    def run(case, reuse):
+        costs, passable, start, goal = case
+        dist, pred = kernels.astar(
+            costs, passable, start, goal, offsets, steps, 50.0, 3.0, 0.1, reuse=reuse
+        )
+        return dist.copy(), pred.copy()
+
+    fresh = [run(case, False) for case in cases]
+    for case, (d0, p0) in zip(cases, fresh, strict=True):
+        d1, p1 = run(case, True)
+        assert np.array_equal(d0, d1) and np.array_equal(p0, p1)
+    with ThreadPoolExecutor(2) as pool:
+        both = list(pool.map(lambda case: run(case, True), cases * 2))
+    for (d0, p0), (d1, p1) in zip(fresh * 2, both, strict=True):
+        assert np.array_equal(d0, d1) and np.array_equal(p0, p1)

@@ -24,6 +24,7 @@ and is called when a planner is built, so no control step ever compiles. Its dur
 from __future__ import annotations
 
 import os
+import threading
 import time
 
 import numpy as np
@@ -530,18 +531,17 @@ def _heap_down(hk, hn, pos, size, key, node):  # type: ignore[no-untyped-def]
 
 @_jit
 def _astar_kernel(  # type: ignore[no-untyped-def]
-    costs, passable, start, goal, offsets, steps, neutral, half_factor, h_scale, dist, pred
-):
+    costs, passable, start, goal, offsets, steps, neutral, half_factor, h_scale, dist, pred,
+    pos, hk, hn, touched,
+):  # fmt: skip
     """A* over the 8-slot grid graph of :func:`grid_weights` (its edge weights, computed on
     the fly with the same operations), from ``start`` (flat index) until ``goal`` (flat index,
     or -1 for an exhaustive search) is settled. Heap key ``(g + h, node)``; ``h`` = octile
-    distance x ``h_scale`` (a lower bound of every move's cost, so consistent). Returns the
-    number of settled nodes."""
+    distance x ``h_scale`` (a lower bound of every move's cost, so consistent).
+    ``dist``/``pred``/``pos`` (heap slot, -2 once settled) must hold ``inf``/-1/-1 on entry;
+    every node given a cost is listed in ``touched`` (:func:`_astar_reset` restores those).
+    Returns how many are listed."""
     rows, cols = costs.shape
-    n = rows * cols
-    hk = np.empty(n)
-    hn = np.empty(n, dtype=np.int64)
-    pos = np.full(n, -1, dtype=np.int64)  # heap slot; -2 once settled
     gr, gc = 0, 0
     if goal >= 0:
         gr = goal // cols
@@ -550,13 +550,13 @@ def _astar_kernel(  # type: ignore[no-untyped-def]
     hk[0] = 0.0
     hn[0] = start
     pos[start] = 0
+    touched[0] = start
+    listed = 1
     size = 1
-    settled = 0
     diag = np.sqrt(2.0) - 1.0
     while size > 0:
         u = hn[0]
         pos[u] = -2
-        settled += 1
         size -= 1
         if size > 0:
             _heap_down(hk, hn, pos, size, hk[size], hn[size])
@@ -591,8 +591,46 @@ def _astar_kernel(  # type: ignore[no-untyped-def]
                 if slot == -1:
                     slot = size
                     size += 1
+                    touched[listed] = v
+                    listed += 1
                 _heap_up(hk, hn, pos, slot, nd + h, v)
-    return settled
+    return listed
+
+
+@_jit
+def _astar_reset(touched, listed, dist, pred, pos):  # type: ignore[no-untyped-def]
+    for i in range(listed):
+        v = touched[i]
+        dist[v] = np.inf
+        pred[v] = -1
+        pos[v] = -1
+
+
+class _SearchWorkspace(threading.local):
+    """One set of A* arrays per thread (the replanning worker and the control thread may
+    search at once), kept between searches: only the entries the last search touched are
+    reset, instead of allocating and filling ``5 x rows·cols`` entries per replan."""
+
+    def __init__(self) -> None:
+        self.n = -1
+        self.listed = 0
+
+    def arrays(self, n: int) -> tuple[NDArray[np.float64], ...]:
+        if self.n != n:
+            self.dist = np.full(n, np.inf)
+            self.pred = np.full(n, -1, dtype=np.int64)
+            self.pos = np.full(n, -1, dtype=np.int64)
+            self.hk = np.empty(n)
+            self.hn = np.empty(n, dtype=np.int64)
+            self.touched = np.empty(n, dtype=np.int64)
+            self.n, self.listed = n, 0
+        elif self.listed:
+            _astar_reset(self.touched, self.listed, self.dist, self.pred, self.pos)
+            self.listed = 0
+        return self.dist, self.pred, self.pos, self.hk, self.hn, self.touched
+
+
+_WORKSPACE = _SearchWorkspace()
 
 
 def astar(
@@ -605,20 +643,29 @@ def astar(
     neutral_cost: float,
     cost_factor: float,
     resolution: float,
+    reuse: bool = False,
 ) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
     """Costs-to-come ``(rows·cols,)`` and predecessors (``-1``: none) of an A* search on the
     global planner's grid graph from flat ``start`` to flat ``goal`` (``-1``: every reachable
     cell, i.e. Dijkstra). Exact where settled: the goal's cost, and with ``goal = -1`` or an
     unreachable goal the set of reachable cells, are those of a full Dijkstra; among paths of
     equal cost the one chosen may differ from SciPy's (ties broken by heap key, node index).
-    Runs without the GIL."""
+    ``reuse``: the two arrays are the calling thread's kept workspace (the same values),
+    valid until that thread's next ``reuse`` search. Runs without the GIL."""
     n = costs.size
-    dist = np.full(n, np.inf)
-    pred = np.full(n, -1, dtype=np.int64)
+    if reuse:
+        ws = _WORKSPACE
+        dist, pred, pos, hk, hn, touched = ws.arrays(n)
+        ws.n = -1  # unknown state until the search returns (an interrupted one reallocates)
+    else:
+        dist = np.full(n, np.inf)
+        pred = np.full(n, -1, dtype=np.int64)
+        pos = np.full(n, -1, dtype=np.int64)
+        hk, hn, touched = np.empty(n), np.empty(n, dtype=np.int64), np.empty(n, dtype=np.int64)
     # Every move costs at least its length x neutral_cost; a hair less keeps h a lower bound
     # after rounding.
     h_scale = float(neutral_cost) * float(resolution) * (1.0 - 1e-9)
-    _astar_kernel(
+    listed = _astar_kernel(
         np.ascontiguousarray(costs, dtype=np.uint8),
         np.ascontiguousarray(passable, dtype=np.bool_),
         int(start),
@@ -630,8 +677,36 @@ def astar(
         h_scale,
         dist,
         pred,
+        pos,
+        hk,
+        hn,
+        touched,
     )
+    if reuse:
+        ws.n, ws.listed = n, listed
     return dist, pred
+
+
+@_jit
+def _chain_kernel(pred, start, goal):  # type: ignore[no-untyped-def]
+    m = 1
+    node = goal
+    while node != start:
+        node = pred[node]
+        m += 1
+    out = np.empty(m, dtype=np.int64)
+    node = goal
+    for i in range(m - 1, -1, -1):
+        out[i] = node
+        if i:
+            node = pred[node]
+    return out
+
+
+def predecessor_chain(pred: NDArray[np.int64], start: int, goal: int) -> NDArray[np.int64]:
+    """The flat nodes ``(P,)`` from ``start`` to ``goal`` along ``pred`` (a search tree rooted
+    at ``start`` that reaches ``goal``)."""
+    return _chain_kernel(pred, int(start), int(goal))  # type: ignore[no-any-return]
 
 
 # ---- personal-space (proxemic) layer ---------------------------------------------------------
@@ -1126,7 +1201,13 @@ def warmup() -> float:
 
     rasterize(GridGeometry((4, 4), 0.25), discs=np.array([[0.5, 0.5, 0.3]]))
     for goal in (15, -1):
-        astar(costs, costs == 0, 0, goal, np.array([[0, 1], [1, 1]]), np.ones(2), 50.0, 3.0, 0.1)
+        for reuse in (False, True):
+            astar(
+                costs, costs == 0, 0, goal, np.array([[0, 1], [1, 1]]), np.ones(2), 50.0, 3.0,
+                0.1, reuse,
+            )  # fmt: skip
+    for dtype in (np.int64, np.int32):  # ours and SciPy's predecessors
+        predecessor_chain(np.array([-1, 0], dtype=dtype), 0, 1)
     min_squared_distances(poses[:, -1:], np.zeros((1, 1, 2)), np.array([0], np.intp), out)
     from socialnav.world.costmap import _disc_costs
 
