@@ -1209,10 +1209,11 @@ def warmup() -> float:
     for dtype in (np.int64, np.int32):  # ours and SciPy's predecessors
         predecessor_chain(np.array([-1, 0], dtype=dtype), 0, 1)
     min_squared_distances(poses[:, -1:], np.zeros((1, 1, 2)), np.array([0], np.intp), out)
-    from socialnav.world.costmap import _disc_costs
+    from socialnav.world.costmap import _disc_costs, _disc_finish
 
     box = np.array([[0, 2, 0, 2]], dtype=np.int64)
     _disc_costs(costs == 0, box, 1, np.zeros(3, np.uint8), np.zeros((4, 4), np.uint8))
+    _disc_finish(costs == 0, costs, np.zeros((4, 4), np.uint8))
     from socialnav.moo.paccet import warmup as paccet_warmup
 
     paccet_warmup()
