@@ -718,9 +718,10 @@ def _proxemic_exponents(  # type: ignore[no-untyped-def]
 ):
     """Windows ``first..last-1`` (rows ``(r0, r1, c0, c1, x, y, cos, sin, var_front,
     one_sided)``): the exponent ``-(mx² / 2σx² + my² / 2σ²)`` of each cell, with the
-    reference's operations, for the cells of the window whose centre lies in the ellipse
-    ``semi[k] = (along, across)`` (m, the cutoff's reach, a hair enlarged: it contains the
-    whole lobe), one row interval at a time; cells at or above ``threshold`` go to
+    reference's operations, for the cells of the window whose centre lies ahead in the
+    ellipse ``semi[k] = (along, across)`` or behind in the disc of radius ``across`` (m, the
+    cutoff's reach, a hair enlarged: together they contain the whole lobe), one row interval
+    at a time; cells at or above ``threshold`` go to
     ``flat``/``expo``. Returns their count."""
     m = 0
     for k in range(first, last):
@@ -732,16 +733,30 @@ def _proxemic_exponents(  # type: ignore[no-untyped-def]
         ia = 1.0 / (semi[k, 0] * semi[k, 0])
         ib = 1.0 / (semi[k, 1] * semi[k, 1])
         qa = c * c * ia + s * s * ib  # dx² coefficient of (mx/a)² + (my/b)² (> 0)
+        b2 = semi[k, 1] * semi[k, 1]
         for r in range(r0, r1):
             dy = oy + (r + 0.5) * res - y
+            # Behind the person (mx <= 0) the lobe is the disc of radius ``across``; ahead,
+            # the half of the ellipse with mx >= 0: the hull of the two row intervals.
+            lo, hi = np.inf, -np.inf
             qb = 2.0 * dy * c * s * (ia - ib)
             qc = dy * dy * (s * s * ia + c * c * ib) - 1.0
             disc = qb * qb - 4.0 * qa * qc
-            if disc < 0.0:
+            if disc >= 0.0:
+                root = np.sqrt(disc)
+                lo = (-qb - root) / (2.0 * qa)
+                hi = (-qb + root) / (2.0 * qa)
+                if c > 1e-9:  # mx = dx c + dy s >= 0
+                    lo = max(lo, -dy * s / c)
+                elif c < -1e-9:
+                    hi = min(hi, -dy * s / c)
+                if lo > hi:
+                    lo, hi = np.inf, -np.inf
+            if dy * dy <= b2:
+                w = np.sqrt(b2 - dy * dy)
+                lo, hi = min(lo, -w), max(hi, w)
+            if lo > hi:
                 continue
-            root = np.sqrt(disc)
-            lo = (-qb - root) / (2.0 * qa)
-            hi = (-qb + root) / (2.0 * qa)
             q0 = max(int(np.floor((x + lo - ox) / res - 0.5)) - 1, c0)
             q1 = min(int(np.ceil((x + hi - ox) / res - 0.5)) + 2, c1)
             for q in range(q0, q1):
