@@ -3,6 +3,7 @@ partly dynamic, stale inputs stop the robot within its limits with an ERROR diag
 
 from __future__ import annotations
 
+import threading
 import time
 from collections.abc import Callable, Iterator
 
@@ -175,6 +176,53 @@ def test_stale_input_stops_within_the_limits(graph, stale: str) -> None:
     assert np.all(steps[:, 0] <= PIONEER.acc_lim_x * 2 * period + 1e-9), steps[:, 0]
     errors = [d for d in diags if d.level == DiagnosticStatus.ERROR]
     assert errors and f"{stale} older than" in errors[-1].message
+
+
+def test_periodic_replan_runs_off_the_control_cycle(graph) -> None:
+    """With the default ``replan_mode`` the periodic global replan runs on the navigator's
+    worker thread, not in the cycle; a rebuilt planner's worker is stopped."""
+    node, peer, executor = graph
+    peer.create_publisher(OccupancyGrid, "map", LATCHED).publish(open_map())
+    odom_pub = peer.create_publisher(Odometry, "odom", qos_profile_sensor_data)
+    people_pub = peer.create_publisher(PoseArray, "people", qos_profile_sensor_data)
+    goal_pub = peer.create_publisher(PoseStamped, "goal_pose", 10)
+    assert node.trigger_configure() == TransitionCallbackReturn.SUCCESS
+    assert node.values["replan_mode"] == "deferred"
+    assert spin_until(executor, lambda: node.costmap is not None, 3.0)
+    assert node.trigger_activate() == TransitionCallbackReturn.SUCCESS
+    spin_until(executor, lambda: goal_pub.get_subscription_count() > 0, 2.0)
+    goal = PoseStamped()
+    goal.header.frame_id = "map"
+    goal.pose.position.x, goal.pose.orientation.w = 7.0, 1.0
+    goal_pub.publish(goal)
+    assert spin_until(executor, lambda: node.goal is not None, 2.0)
+    threads: list[str] = []
+    x, end, patched = 0.0, time.monotonic() + 3.0, None
+    while time.monotonic() < end:
+        nav = node.navigator
+        if nav is not None and nav is not patched:  # record where each plan is computed
+            compute = nav._compute_plan
+
+            def traced(*args, _compute=compute):
+                threads.append(threading.current_thread().name)
+                return _compute(*args)
+
+            nav._compute_plan, patched = traced, nav
+        x += 0.02
+        odom_pub.publish(odom(peer, x, 0.4))
+        people_pub.publish(people(peer))
+        spin_until(executor, lambda: False, 0.05)
+    assert patched is node.navigator and patched.global_search == "compiled"
+    # (the first plan, inline, came before the patch) every later one ran on the worker
+    assert threads and all(name.startswith("socialnav-replan") for name in threads), threads
+    ok = node.set_parameters([Parameter("path_distance_bias", value=1.5)])
+    assert all(r.successful for r in ok)
+    spin_until(executor, lambda: node.navigator is not patched, 1.0)  # no odometry: watchdog
+    x += 0.02
+    odom_pub.publish(odom(peer, x, 0.4))
+    people_pub.publish(people(peer))
+    assert spin_until(executor, lambda: node.navigator is not patched, 2.0)
+    assert patched._executor is None  # closed when the planner was rebuilt
 
 
 @pytest.mark.parametrize("good", [True, False])
