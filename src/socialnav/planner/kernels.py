@@ -26,6 +26,7 @@ from __future__ import annotations
 import os
 import threading
 import time
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -615,7 +616,7 @@ class _SearchWorkspace(threading.local):
         self.n = -1
         self.listed = 0
 
-    def arrays(self, n: int) -> tuple[NDArray[np.float64], ...]:
+    def arrays(self, n: int) -> tuple[Any, ...]:
         if self.n != n:
             self.dist = np.full(n, np.inf)
             self.pred = np.full(n, -1, dtype=np.int64)
@@ -653,6 +654,8 @@ def astar(
     ``reuse``: the two arrays are the calling thread's kept workspace (the same values),
     valid until that thread's next ``reuse`` search. Runs without the GIL."""
     n = costs.size
+    dist: NDArray[np.float64]
+    pred: NDArray[np.int64]
     if reuse:
         ws = _WORKSPACE
         dist, pred, pos, hk, hn, touched = ws.arrays(n)
@@ -706,7 +709,8 @@ def _chain_kernel(pred, start, goal):  # type: ignore[no-untyped-def]
 def predecessor_chain(pred: NDArray[np.int64], start: int, goal: int) -> NDArray[np.int64]:
     """The flat nodes ``(P,)`` from ``start`` to ``goal`` along ``pred`` (a search tree rooted
     at ``start`` that reaches ``goal``)."""
-    return _chain_kernel(pred, int(start), int(goal))  # type: ignore[no-any-return]
+    out: NDArray[np.int64] = _chain_kernel(pred, int(start), int(goal))
+    return out
 
 
 # ---- personal-space (proxemic) layer ---------------------------------------------------------

@@ -465,7 +465,7 @@ class SocialNavNode(LifecycleNode):  # type: ignore[misc]
                 record=True,
                 params=self.planner_params,
                 global_search="compiled",
-                replan_mode=str(self.values["replan_mode"]),
+                replan_mode=self.values["replan_mode"],  # validated: one of the choices
             )
             self._dirty, self._people_signature = False, signature
         result = self.navigator.step(t, pose, velocity, social)
