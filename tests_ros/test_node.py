@@ -125,18 +125,8 @@ def people(node: Node) -> PoseArray:
     return msg
 
 
-@pytest.mark.parametrize("stale", ["odometry", "people"])
-def test_stale_input_stops_within_the_limits(graph, stale: str) -> None:
-    node, peer, executor = graph
-    cmds: list[tuple[float, np.ndarray]] = []
-    diags: list[DiagnosticStatus] = []
-    peer.create_subscription(
-        Twist,
-        "cmd_vel",
-        lambda m: cmds.append((time.monotonic(), np.array([m.linear.x, m.linear.y, m.angular.z]))),
-        10,
-    )
-    peer.create_subscription(DiagnosticArray, "/diagnostics", lambda m: diags.extend(m.status), 10)
+def activate_with_goal(node: SocialNavNode, peer: Node, executor: SingleThreadedExecutor):
+    """Map, configure, activate, a goal 7 m ahead; the odometry and people publishers."""
     peer.create_publisher(OccupancyGrid, "map", LATCHED).publish(open_map())
     odom_pub = peer.create_publisher(Odometry, "odom", qos_profile_sensor_data)
     people_pub = peer.create_publisher(PoseArray, "people", qos_profile_sensor_data)
@@ -150,6 +140,22 @@ def test_stale_input_stops_within_the_limits(graph, stale: str) -> None:
     goal.pose.position.x, goal.pose.orientation.w = 7.0, 1.0
     goal_pub.publish(goal)
     assert spin_until(executor, lambda: node.goal is not None, 2.0)
+    return odom_pub, people_pub
+
+
+@pytest.mark.parametrize("stale", ["odometry", "people"])
+def test_stale_input_stops_within_the_limits(graph, stale: str) -> None:
+    node, peer, executor = graph
+    cmds: list[tuple[float, np.ndarray]] = []
+    diags: list[DiagnosticStatus] = []
+    peer.create_subscription(
+        Twist,
+        "cmd_vel",
+        lambda m: cmds.append((time.monotonic(), np.array([m.linear.x, m.linear.y, m.angular.z]))),
+        10,
+    )
+    peer.create_subscription(DiagnosticArray, "/diagnostics", lambda m: diags.extend(m.status), 10)
+    odom_pub, people_pub = activate_with_goal(node, peer, executor)
     # drive with fresh inputs: the robot reports moving at 0.4 m/s
     x, end = 0.0, time.monotonic() + 1.0
     while time.monotonic() < end:
@@ -182,20 +188,8 @@ def test_periodic_replan_runs_off_the_control_cycle(graph) -> None:
     """With the default ``replan_mode`` the periodic global replan runs on the navigator's
     worker thread, not in the cycle; a rebuilt planner's worker is stopped."""
     node, peer, executor = graph
-    peer.create_publisher(OccupancyGrid, "map", LATCHED).publish(open_map())
-    odom_pub = peer.create_publisher(Odometry, "odom", qos_profile_sensor_data)
-    people_pub = peer.create_publisher(PoseArray, "people", qos_profile_sensor_data)
-    goal_pub = peer.create_publisher(PoseStamped, "goal_pose", 10)
-    assert node.trigger_configure() == TransitionCallbackReturn.SUCCESS
+    odom_pub, people_pub = activate_with_goal(node, peer, executor)
     assert node.values["replan_mode"] == "deferred"
-    assert spin_until(executor, lambda: node.costmap is not None, 3.0)
-    assert node.trigger_activate() == TransitionCallbackReturn.SUCCESS
-    spin_until(executor, lambda: goal_pub.get_subscription_count() > 0, 2.0)
-    goal = PoseStamped()
-    goal.header.frame_id = "map"
-    goal.pose.position.x, goal.pose.orientation.w = 7.0, 1.0
-    goal_pub.publish(goal)
-    assert spin_until(executor, lambda: node.goal is not None, 2.0)
     threads: list[str] = []
     x, end, patched = 0.0, time.monotonic() + 3.0, None
     while time.monotonic() < end:
