@@ -22,7 +22,7 @@ import multiprocessing as mp
 import statistics
 from collections import defaultdict
 
-from socialnav.experiments.suite import parse_seeds
+from socialnav.experiments.crowd import parse_seeds
 from socialnav.planner.local_planner import LocalPlannerParams
 from socialnav.planner.presets import PRESETS, recommended_objectives
 from socialnav.sim.generate import GENERATORS, REPORTING_SEED

@@ -15,6 +15,12 @@ app = typer.Typer(
 )
 
 ROBOT_HELP = "Robot model: pr2 (holonomic) or pioneer (differential drive)."
+# Spelled out rather than imported so that ``--help`` does not load the simulator; a test keeps it
+# equal to the generator registry.
+GENERATED_FAMILIES = (
+    "crowdnav, crowdnav_visible, gallery_pass, gallery_present, group_join, group_lead, hallway, "
+    "mixed, queue"
+)
 
 
 def _version(value: bool) -> None:
@@ -79,8 +85,10 @@ def run(
         str, typer.Option(help="given (the scenario's structures) or detected (noisy tracks).")
     ] = "given",
 ) -> None:
-    """Run one scenario (or a recorded crowd) with one planner; write trajectories, metrics and
-    a figure."""
+    """Run one scenario (or a recorded crowd) with one planner.
+
+    Writes the trajectories, the metrics and a figure.
+    """
     from socialnav.core.errors import ConfigurationError
     from socialnav.experiments.run import run_single
 
@@ -264,7 +272,11 @@ def compare(
         ),
     ] = None,
     families: Annotated[
-        str, typer.Option(help="--suite generated: comma-separated families; default all.")
+        str,
+        typer.Option(
+            help="--suite generated: comma-separated families (" + GENERATED_FAMILIES + "); "
+            "default all."
+        ),
     ] = "",
     jobs: Annotated[int, typer.Option(help="Parallel workers; -1 = all cores.")] = -1,
     resume: Annotated[bool, typer.Option(help="Skip runs already in the report folder.")] = True,
@@ -290,7 +302,10 @@ def compare(
         ),
     ] = "given",
 ) -> None:
-    """The main job: every scenario × planner × robot, into a Markdown/HTML report with figures."""
+    """The main job: every scenario × planner × robot, into a report with figures.
+
+    The report is written as Markdown and HTML in the --out folder.
+    """
     from socialnav.core.errors import ConfigurationError
     from socialnav.experiments.backends import check_backend
     from socialnav.experiments.crowd import parse_seeds
@@ -407,8 +422,10 @@ def detect(
     noise: Annotated[str, typer.Option(help="Perception noise: default or none.")] = "default",
     seed: Annotated[int, typer.Option(help="Seed of the perception noise.")] = 0,
 ) -> None:
-    """Estimate the social context over a recording or a scenario: structures.parquet and a
-    picture."""
+    """Estimate the social context over a recording or a scenario.
+
+    Writes the structures found per frame (structures.parquet) and a picture.
+    """
     from socialnav.core.errors import ConfigurationError
     from socialnav.experiments.detect import detect_file
 
@@ -424,8 +441,11 @@ def detect(
 def validate(
     scenario: Annotated[str, typer.Argument(help="Built-in scenario name or path to a YAML file.")],
 ) -> None:
-    """Check a scenario file, its geometry (start, goal and people outside walls and obstacles,
-    start and goal on the map) and its ROS map; errors name the file and the field."""
+    """Check a scenario file, its geometry and its ROS map.
+
+    Geometry: start, goal and people outside walls and obstacles, start and goal on the map.
+    Errors name the file and the field.
+    """
     from socialnav.core.errors import ConfigurationError
     from socialnav.sim.scenario import load_scenario
 
@@ -458,11 +478,13 @@ def schema(
 
 @app.command("list")
 def list_components() -> None:
-    """List built-in scenarios and planners (planners in display order)."""
+    """List built-in scenarios, generated families and planners (planners in display order)."""
     from socialnav.experiments.planners import CONTROLLERS, planner_names
+    from socialnav.sim.generate import GENERATORS
     from socialnav.sim.scenario import builtin_scenarios
 
     typer.echo("scenarios: " + ", ".join(builtin_scenarios()))
+    typer.echo("generated families (--suite generated): " + ", ".join(sorted(GENERATORS)))
     for name in planner_names():
         entry = CONTROLLERS.get(name)
         default = "" if entry.compared else " (not compared by default)"

@@ -47,6 +47,28 @@ def test_list_names_the_13_scenarios_and_every_planner_in_display_order() -> Non
     assert set(planners) >= PLANNERS and "go_to_goal" in planners
 
 
+def test_list_and_compare_help_name_every_generated_family() -> None:
+    from socialnav.cli import GENERATED_FAMILIES
+    from socialnav.sim.generate import GENERATORS
+
+    # the help text is spelled out (no simulator import on --help); it must track the registry
+    assert [f.strip() for f in GENERATED_FAMILIES.split(",")] == sorted(GENERATORS)
+    lines = invoke("list").stdout.splitlines()
+    families = next(ln for ln in lines if ln.startswith("generated families"))
+    assert families.split(": ", 1)[1].split(", ") == sorted(GENERATORS)
+    # rich wraps the help column: compare without the table's borders and line breaks
+    text = "".join(ch for ch in invoke("compare", "--help").stdout if ch not in "│ \n")
+    assert all(name in text for name in GENERATORS)
+
+
+def test_top_level_help_gives_each_command_a_one_line_summary() -> None:
+    # a summary that wraps mid-sentence in `socialnav --help` reads as broken text
+    for command in app.registered_commands:
+        doc = (command.callback.__doc__ or "").strip() if command.callback else ""
+        summary = doc.split("\n\n", 1)[0]
+        assert "\n" not in summary, f"{command.name or command.callback}: {summary!r}"
+
+
 def test_installed_console_script_lists_the_same() -> None:
     script = Path(sys.executable).with_name("socialnav")
     proc = subprocess.run(

@@ -10,6 +10,7 @@ import pytest
 from socialnav.core.robot import PIONEER, PR2
 from socialnav.core.scene import Person, SocialContext
 from socialnav.core.trajectories import Trajectories
+from socialnav.planner import kernels
 from socialnav.planner.context import PlanningContext
 from socialnav.planner.critics.interpersonal import (
     InterpersonalCritic,
@@ -247,8 +248,16 @@ def test_min_squared_distances_is_exact_within_reach_and_culls_only_far_people()
     got = min_squared_distances(trajs, ctx, reach)
     culled = np.isinf(got).all(axis=0)
     assert 0 < culled.sum() < 30  # the test covers both kinds of people
-    np.testing.assert_allclose(got[:, ~culled], full[:, ~culled], rtol=0, atol=1e-12)
-    assert (np.sqrt(full[:, culled]) > 1.0).all()
+    # Exact wherever the distance is within reach; beyond it an entry is exact or inf (the
+    # compiled path also culls single (trajectory, person) pairs, the reference whole people).
+    within = np.sqrt(full) <= 1.0
+    assert within[:, ~culled].any()
+    np.testing.assert_allclose(got[within], full[within], rtol=0, atol=1e-12)
+    kept = np.isfinite(got)
+    np.testing.assert_allclose(got[kept], full[kept], rtol=0, atol=1e-12)
+    assert (np.sqrt(full[~kept]) > 1.0).all()
+    if not kernels.enabled():
+        assert kept[:, ~culled].all()
     # a larger reach later extends the cache to the people it now needs
     everyone = min_squared_distances(trajs, ctx, np.full(30, np.inf))
     np.testing.assert_allclose(everyone, full, rtol=0, atol=1e-12)

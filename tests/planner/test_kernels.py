@@ -154,6 +154,16 @@ def test_critics_bit_identical(
     critics = [
         OccupancyCritic(footprint=footprint, circumscribed_cost=circumscribed),
         InterpersonalCritic(evaluation="max_over_time"),
+        # paccet's: partners, passing distances; then larger reaches extend the shared cache
+        InterpersonalCritic(evaluation="max_over_time", partner_distance=True, hold_horizon=2.5),
+        InterpersonalCritic(
+            evaluation="max_over_time",
+            distance="edge",
+            footprint_disc="circumscribed",
+            hold_horizon=1.0,
+            approach_speed=0.0,
+        ),
+        InterpersonalCritic(evaluation="max_over_time", threshold=3.0, collision_check=False),
         InterpersonalCritic(distance="edge", person_slot=1),
         GroupCritic(),
         GroupCritic(evaluation="max_over_time", illegal_inside=True),
@@ -231,23 +241,19 @@ def test_warmup_compiles_ahead() -> None:
     if not kernels.enabled():
         pytest.skip("reference path selected")
     kernels.warmup()
-    sigs = {
-        k: len(f.signatures)
-        for k, f in {
-            "rollout": kernels._rollout_kernel,
-            "occupancy": kernels._occupancy_kernel,
-            "d2min": kernels._d2min_kernel,
-        }.items()
+    fns = {
+        "rollout": kernels._rollout_kernel,
+        "occupancy": kernels._occupancy_kernel,
+        "d2min": kernels._d2min_culled_kernel,
+        "person_distances": kernels._person_distance_kernel,
+        "approach": kernels._approach_kernel,
     }
+    sigs = {k: len(f.signatures) for k, f in fns.items()}
+    assert all(sigs.values())
     costmap, pose, vel, goal, path, social = scene(3, 5)
     planner = build_local_planner("paccet", PR2, social, LocalPlannerParams(5, 3, 7))
     planner.plan(context(PR2, costmap, pose, vel, goal, path, social))
-    after = {
-        "rollout": len(kernels._rollout_kernel.signatures),
-        "occupancy": len(kernels._occupancy_kernel.signatures),
-        "d2min": len(kernels._d2min_kernel.signatures),
-    }
-    assert after == sigs
+    assert {k: len(f.signatures) for k, f in fns.items()} == sigs
 
 
 def test_warmup_covers_selection_search_and_layers() -> None:
@@ -598,3 +604,115 @@ def test_kept_search_workspace_equals_fresh_arrays(seed: int, searches: int) -> 
         both = list(pool.map(lambda case: run(case, True), cases * 2))
     for (d0, p0), (d1, p1) in zip(fresh * 2, both, strict=True):
         assert np.array_equal(d0, d1) and np.array_equal(p0, p1)
+
+
+@settings(max_examples=80)
+@given(
+    seed=st.integers(0, 2**31 - 1),
+    n_vertices=st.integers(1, 40),
+    lattice=st.booleans(),
+    special=st.sampled_from([None, np.nan, np.inf, 1e200]),
+)
+def test_nearest_vertex_is_argmin(
+    seed: int, n_vertices: int, lattice: bool, special: float | None
+) -> None:
+    """The split-accumulator nearest-vertex search returns ``argmin``'s index: first of equal
+    distances (repeated vertices, points on a lattice), NaN first, all-inf rows 0."""
+    rng = np.random.default_rng(seed)
+    vertices = rng.uniform(-3.0, 3.0, (n_vertices, 2))
+    points = rng.uniform(-4.0, 4.0, (60, 2))
+    if lattice:  # many exact ties
+        vertices, points = np.round(vertices), np.round(points)
+    vertices = vertices[rng.integers(0, n_vertices, n_vertices)]  # repeated vertices
+    if special is not None:
+        points[rng.integers(0, 60, 5), rng.integers(0, 2, 5)] = special
+        if rng.random() < 0.5:
+            vertices[rng.integers(0, n_vertices), rng.integers(0, 2)] = special
+    with np.errstate(invalid="ignore", over="ignore"):  # inf - inf, 1e200 squared
+        d2 = (points[:, None, 0] - vertices[None, :, 0]) ** 2 + (
+            points[:, None, 1] - vertices[None, :, 1]
+        ) ** 2
+        want = np.argmin(d2, axis=1)
+    np.testing.assert_array_equal(kernels.nearest_vertex(points, vertices), want)
+
+
+@settings(max_examples=30)
+@given(seed=st.integers(0, 2**31 - 1), people=st.integers(0, 6))
+def test_occupancy_hit_codes_identical(seed: int, people: int) -> None:
+    """The padded hit-code map of the occupancy critic (LETHAL 1, UNKNOWN or off the map 2)."""
+    from socialnav.planner.critics.occupancy import _prepare_outline
+
+    costmap, pose, vel, goal, path, social = scene(seed, people)
+    costs = costmap.costs.copy()
+    rng = np.random.default_rng(seed)
+    costs[rng.random(costs.shape) < 0.05] = 255  # some UNKNOWN cells too
+    costmap = type(costmap)(costs, costmap.geometry)
+    maps = []
+    for flag in (False, True):
+        with compiled(flag):
+            ctx = context(PR2, costmap, pose, vel, goal, path, social)
+            _prepare_outline(ctx)
+            assert ctx.cache.occupancy_codes is not None
+            maps.append(ctx.cache.occupancy_codes)
+    assert maps[0][1] == maps[1][1]
+    assert maps[0][0].dtype == maps[1][0].dtype == np.uint8
+    assert np.array_equal(maps[0][0], maps[1][0])
+
+
+@settings(max_examples=60)
+@given(
+    seed=st.integers(0, 2**31 - 1),
+    steps=st.integers(1, 13),
+    reach=st.sampled_from([0.3, 1.0, np.inf]),
+    special=st.sampled_from([None, np.nan, np.inf, -np.inf]),
+)
+def test_culled_distance_minimum_matches_np_min(
+    seed: int, steps: int, reach: float, special: float | None
+) -> None:
+    """The four-accumulator, pair-culled minimum: ``np.min``'s value (NaN sticking) for every
+    pair within ``reach`` or with a non-finite point; only pairs truly beyond ``reach`` may be
+    ``inf`` instead."""
+    rng = np.random.default_rng(seed)
+    poses = rng.uniform(-2.0, 2.0, (30, steps, 3))
+    forecast = rng.uniform(-2.0, 2.0, (steps, 5, 2))
+    if special is not None:
+        poses[rng.integers(0, 30, 3), rng.integers(0, steps, 3), rng.integers(0, 2, 3)] = special
+        forecast[rng.integers(0, steps), rng.integers(0, 5), rng.integers(0, 2)] = special
+    with np.errstate(invalid="ignore"):
+        want = ((poses[:, :, None, :2] - forecast[None]) ** 2).sum(-1).min(axis=1)  # (N, K)
+    people = np.arange(5, dtype=np.intp)
+    got = np.full((30, 5), -1.0)
+    kernels.min_squared_distances_culled(poses, forecast, people, np.full(5, reach), got)
+    plain = np.full((30, 5), -1.0)
+    kernels.min_squared_distances(poses, forecast, people, plain)
+    assert np.array_equal(plain, want, equal_nan=True)
+    culled = ~np.isnan(want) & np.isinf(got) & ~np.isinf(want)
+    assert (np.sqrt(want[culled]) > reach).all()
+    assert np.array_equal(got[~culled], want[~culled], equal_nan=True)
+
+
+@settings(max_examples=40)
+@given(
+    seed=st.integers(0, 2**31 - 1),
+    n=st.integers(1, 60),
+    reach=st.sampled_from([None, 0.0, 0.5, 3.0]),
+    repeat=st.booleans(),
+)
+def test_heading_plan_identical(seed: int, n: int, reach: float | None, repeat: bool) -> None:
+    """The heading critic's densified plan ahead: vertices, arc lengths and tangents."""
+    rng = np.random.default_rng(seed)
+    path = np.cumsum(rng.uniform(-0.4, 0.4, (n, 2)), axis=0) + 2.0
+    if repeat and n > 2:
+        path[1] = path[0]  # a repeated vertex: a zero-length segment
+    costmap, pose, vel, goal, _, social = scene(seed, 0)
+    plans = []
+    for flag in (False, True):
+        with compiled(flag):
+            ctx = context(PR2, costmap, pose, vel, goal, path, social)
+            ctx.cache.reach = reach
+            HeadingCritic().prepare(ctx)
+            plans.append(ctx.cache.heading_plan)
+    ref, fast = plans
+    assert ref is not None and fast is not None
+    for name in ("dense", "s", "tangent"):
+        assert np.array_equal(getattr(ref, name), getattr(fast, name)), name

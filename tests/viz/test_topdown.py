@@ -244,6 +244,29 @@ def test_region_of_interest_contains_everything_without_walls(points, margin):
     assert x1 - x0 >= 4.0 - 1e-9 and y1 - y0 >= 4.0 - 1e-9
 
 
+def test_region_of_interest_shows_the_far_wall_of_a_corridor():
+    # a 4 m corridor along x; the robot kept 0.5 m from the lower wall, so path + 1 m margin alone
+    # would stop 1.5 m short of the upper wall and hide the room it had
+    xy = np.column_stack([np.linspace(0.0, 12.0, 50), np.full(50, 0.5)])
+    walls = np.array(
+        [[[-1.0, 0.0], [13.0, 0.0]], [[-1.0, 4.0], [13.0, 4.0]], [[-1.0, 9.5], [13.0, 9.5]]]
+    )
+    rec = S.make_record(
+        np.column_stack([xy, np.zeros(50)]),
+        np.zeros((50, 0, 2)),
+        SocialContext(),
+        goal=(12.0, 0.5, 0.0),
+        family="hallway",
+        scenario="p",
+        walls=walls,
+    )
+    x0, x1, y0, y1 = L.region_of_interest([rec], margin=1.0)
+    assert y0 == pytest.approx(-0.3) and y1 == pytest.approx(4.3)  # both walls, not the far one
+    assert x0 == pytest.approx(-1.0) and x1 == pytest.approx(13.0)  # paths' x range + margin
+    # beyond the reach the region keeps its own extent
+    assert L.region_of_interest([rec], margin=1.0, wall_reach=1.0)[3] == pytest.approx(2.5)
+
+
 def test_planner_styles_are_stable_and_distinct():
     assert planner_style("traditional").color == "#2ca02c"
     assert planner_style("PaCcET").color == "#1f77b4"

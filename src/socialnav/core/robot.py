@@ -33,9 +33,16 @@ class RobotModel:
     min_vel_theta: float = 0.1
     min_in_place_vel_theta: float = 0.4
     _polygon: FloatArray = field(init=False, repr=False, compare=False)
+    # The footprint is frozen: its radii are computed once (planners read them every cycle).
+    _radii: tuple[float, float] = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "_polygon", np.asarray(self.footprint, dtype=float))
+        polygon = np.asarray(self.footprint, dtype=float)
+        object.__setattr__(self, "_polygon", polygon)
+        a, b = polygon_edges(polygon)
+        circumscribed = float(np.linalg.norm(polygon, axis=1).max())
+        inscribed = float(point_segment_distance(np.zeros(2), a, b).min())
+        object.__setattr__(self, "_radii", (circumscribed, inscribed))
 
     @property
     def polygon(self) -> FloatArray:
@@ -45,13 +52,12 @@ class RobotModel:
     @property
     def circumscribed_radius(self) -> float:
         """Radius (m) of the smallest circle around the footprint, centred on the robot."""
-        return float(np.linalg.norm(self._polygon, axis=1).max())
+        return self._radii[0]
 
     @property
     def inscribed_radius(self) -> float:
         """Radius (m) of the largest circle inside the footprint, centred on the robot."""
-        a, b = polygon_edges(self._polygon)
-        return float(point_segment_distance(np.zeros(2), a, b).min())
+        return self._radii[1]
 
 
 # The scenario suite's two robots, the paper's PR2 and Pioneer.

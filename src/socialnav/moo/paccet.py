@@ -168,8 +168,7 @@ def _bounds(
     F: np.ndarray, A: np.ndarray, options: PaccetOptions
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """lo, hi (archive min/max), per-objective delta d, kept mask; all (m,)."""
-    lo = A.min(axis=0)
-    hi = A.max(axis=0)
+    lo, hi = _column_range(A)
     rng = hi - lo
     kept = rng > 0 if options.drop_constant_objectives else np.ones(rng.size, dtype=bool)
     if not kept.any():  # single-point archive: every objective is constant, keep them all
@@ -179,7 +178,8 @@ def _bounds(
     else:
         # Zero archive range: fall back to the spread of all given points (scale invariant),
         # then to the absolute delta (everything equal, so the scale is irrelevant).
-        spread = np.maximum(F.max(axis=0), hi) - np.minimum(F.min(axis=0), lo)
+        f_lo, f_hi = _column_range(F)
+        spread = np.maximum(f_hi, hi) - np.minimum(f_lo, lo)
         base = np.where(rng > 0, rng, np.where(spread > 0, spread, 1.0))
         d = options.delta * base
     return lo, hi, d, kept
@@ -229,27 +229,56 @@ def _s_star(x: np.ndarray, S: np.ndarray, members: np.ndarray | None = None) -> 
 
 
 @compiled.jit
-def _s_star_kernel(inv, S, skip, out):  # type: ignore[no-untyped-def]
-    """``out[i] = min_p max_j inv[i, j] * S[p, j]``: the dense path's products, maxima and
-    minima (NaN propagating as in ``np.maximum`` and ``min``), so the same values. With
-    ``skip`` (no product can be NaN) a member whose partial maximum already reaches the
-    minimum is skipped: it cannot change it."""
-    n, k = inv.shape
+def _s_star_kernel(inv_t, S, out):  # type: ignore[no-untyped-def]
+    """``out[i] = min_p max_j inv_t[j, i] * S[p, j]`` (``inv_t (k, n)``: ``inv`` transposed):
+    the dense path's products, maxima over ``j`` and minima over ``p`` in its order (NaN
+    propagating as in ``np.maximum`` and ``min``), so the same values. Each step is one
+    element-wise pass over the candidates, which the compiler vectorizes."""
+    k, n = inv_t.shape
+    m = np.empty(n)
     for i in range(n):
-        best = np.inf
-        for p in range(S.shape[0]):
-            m = inv[i, 0] * S[p, 0]
-            if skip and m >= best:  # the maximum only grows: it cannot lower the minimum
-                continue
-            for j in range(1, k):
-                t = inv[i, j] * S[p, j]
-                if t > m or t != t:
-                    m = t
-                    if skip and m >= best:
-                        break
-            if m < best or m != m:
-                best = m
-        out[i] = best
+        out[i] = np.inf
+    for p in range(S.shape[0]):
+        s0 = S[p, 0]
+        for i in range(n):
+            m[i] = inv_t[0, i] * s0
+        for j in range(1, k):
+            sj = S[p, j]
+            for i in range(n):
+                t = inv_t[j, i] * sj
+                mi = m[i]
+                m[i] = t if (t > mi) | (t != t) else mi
+        for i in range(n):
+            mi = m[i]
+            b = out[i]
+            out[i] = mi if (mi < b) | (mi != mi) else b
+
+
+@compiled.jit
+def _column_range_kernel(X, lo, hi):  # type: ignore[no-untyped-def]
+    """``lo``/``hi (m,)`` = ``X.min(axis=0)``/``X.max(axis=0)`` of ``X (n, m)``, n > 0 (exact;
+    NaN propagating as in ``np.min``)."""
+    n, m = X.shape
+    for j in range(m):
+        lo[j] = X[0, j]
+        hi[j] = X[0, j]
+    for i in range(1, n):
+        for j in range(m):
+            v = X[i, j]
+            if v < lo[j] or v != v:
+                lo[j] = v
+            if v > hi[j] or v != v:
+                hi[j] = v
+
+
+def _column_range(X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Column minima and maxima ``(m,)`` of a non-empty ``X (n, m)`` (one compiled pass)."""
+    if compiled.enabled() and X.shape[0] > 0:
+        lo = np.empty(X.shape[1])
+        hi = np.empty(X.shape[1])
+        _column_range_kernel(np.ascontiguousarray(X, dtype=np.float64), lo, hi)
+        return lo, hi
+    return X.min(axis=0), X.max(axis=0)
 
 
 def warmup() -> None:
@@ -258,7 +287,8 @@ def warmup() -> None:
 
     nondominated.warmup()
     if compiled.AVAILABLE:
-        _s_star_kernel(np.ones((2, 3)), np.ones((2, 3)), True, np.empty(2))
+        _s_star_kernel(np.ones((3, 2)), np.ones((2, 3)), np.empty(2))
+        _column_range(np.ones((2, 3)))
 
 
 def _s_star_dense(inv: np.ndarray, S: np.ndarray) -> np.ndarray:
@@ -266,13 +296,9 @@ def _s_star_dense(inv: np.ndarray, S: np.ndarray) -> np.ndarray:
     (compiled: one pass, the same values)."""
     if compiled.enabled() and S.shape[0] > 0 and inv.shape[1] > 0:
         out = np.empty(inv.shape[0])
-        # A product is NaN only from a NaN, or inf (x <= 0) times a zero archive value.
-        nan = bool(np.isnan(inv).any() or np.isnan(S).any())
-        skip = not (nan or (np.isinf(inv).any() and bool((S == 0).any())))
         _s_star_kernel(
-            np.ascontiguousarray(inv, dtype=np.float64),
+            np.ascontiguousarray(inv.T, dtype=np.float64),
             np.ascontiguousarray(S, dtype=np.float64),
-            skip,
             out,
         )
         return out

@@ -44,14 +44,16 @@ class PeopleDistances:
     (:func:`~socialnav.planner.critics.interpersonal.min_squared_distances`).
 
     ``trajs`` is the batch (compared by identity); ``forecast (T, K, 2)`` people positions (m,
-    world); ``bound (K,)`` lower bound (m) on each person's distance to the batch; ``done (K,)``
-    people whose column of ``d2min (N, K)`` (m²) is exact (others are ``inf``).
+    world); ``bound (K,)`` lower bound (m) on each person's distance to the batch;
+    ``covered (K,)`` the distance (m) up to which each column of ``d2min (N, K)`` (m²) is exact
+    (``-inf``: not computed, all ``inf``; ``inf``: exact everywhere; otherwise an entry is exact
+    or, beyond ``covered``, may be ``inf``).
     """
 
     trajs: Trajectories
     forecast: FloatArray
     bound: FloatArray
-    done: NDArray[np.bool_]
+    covered: FloatArray
     d2min: FloatArray
 
 

@@ -217,12 +217,20 @@ def _occupancy_kernel(  # type: ignore[no-untyped-def]
         w = 0
         unk = False
         col_hit = False
+        first_need = -1  # the first pose whose outline can touch a hard cell (none: -1)
         for k in range(steps):
             cx = np.floor((poses[i, first + k, 0] - ox) * inv)
             cy = np.floor((poses[i, first + k, 1] - oy) * inv)
             v = 255
             if 0.0 <= cy < rows and 0.0 <= cx < cols:
                 v = costs[int(cy), int(cx)]
+                if footprint and first_need < 0:
+                    if circumscribed < 0:
+                        need = need_table[clearance[int(cy), int(cx)]]
+                    else:
+                        need = k_all if v >= circumscribed else 0
+                    if need > 0:
+                        first_need = k
             if v == 255:
                 unk = True
             elif v >= 253:
@@ -230,11 +238,12 @@ def _occupancy_kernel(  # type: ignore[no-untyped-def]
             elif v > w:
                 w = v
         worst[i] = w
-        if footprint and not unk and not col_hit:
+        if footprint and not unk and not col_hit and first_need >= 0:
             # Outline points per pose (the NumPy reference's need, rounded up to its groups);
-            # after a LETHAL hit the current chunk still finishes, as in the reference.
+            # after a LETHAL hit the current chunk still finishes, as in the reference. Poses
+            # before ``first_need`` check no point: the scan starts there.
             stop = steps
-            for k in range(steps):
+            for k in range(first_need, steps):
                 if k >= stop:
                     break
                 r = int(np.floor((poses[i, first + k, 1] - oy) * inv))
@@ -329,28 +338,38 @@ def occupancy_scan(
     return worst, collision, unknown
 
 
-# ---- people --------------------------------------------------------------------------------
-
-
 @_jit
-def _d2min_kernel(xy, forecast, out):  # type: ignore[no-untyped-def]
-    """``out (N, J)`` = min over ``t`` of the squared distance of ``xy[i, t]`` to
-    ``forecast[t, j]`` (``forecast (T, J, 2)`` gathered, contiguous); NaN sticks as in
-    ``np.min``."""
-    n, t = xy.shape[0], xy.shape[1]
-    m = forecast.shape[1]
-    for i in range(n):
-        for j in range(m):
-            out[i, j] = np.inf
-        for k in range(t):
-            x = xy[i, k, 0]
-            y = xy[i, k, 1]
-            for j in range(m):
-                dx = x - forecast[k, j, 0]
-                dy = y - forecast[k, j, 1]
-                d = dx * dx + dy * dy
-                if d < out[i, j] or d != d:
-                    out[i, j] = d
+def _hit_codes_kernel(costs, inscribed, border, codes, pad):  # type: ignore[no-untyped-def]
+    """``codes`` (padded by ``pad``): ``max(cost, inscribed) - inscribed`` inside (0 free,
+    1 LETHAL, 2 UNKNOWN for the costmap's 253..255), ``border`` on the pad."""
+    rows, cols = costs.shape
+    width = codes.shape[1]
+    for r in range(codes.shape[0]):
+        inner_r = pad <= r < pad + rows
+        for c in range(width):
+            if inner_r and pad <= c < pad + cols:
+                v = costs[r - pad, c - pad]
+                codes[r, c] = v - inscribed if v > inscribed else 0
+            else:
+                codes[r, c] = border
+
+
+def hit_codes(costs: NDArray[np.uint8], inscribed: int, border: int, pad: int) -> NDArray[np.uint8]:
+    """The occupancy critic's padded hit-code map ``(rows + 2 pad, cols + 2 pad)`` uint8 of
+    ``costs (rows, cols)`` in one pass (the same values as its NumPy construction)."""
+    rows, cols = costs.shape
+    codes = np.empty((rows + 2 * pad, cols + 2 * pad), dtype=np.uint8)
+    _hit_codes_kernel(
+        np.ascontiguousarray(costs, dtype=np.uint8),
+        np.uint8(inscribed),
+        np.uint8(border),
+        codes,
+        pad,
+    )
+    return codes
+
+
+# ---- people --------------------------------------------------------------------------------
 
 
 def min_squared_distances(
@@ -364,12 +383,292 @@ def min_squared_distances(
     ``out (N, K)`` m², written in place."""
     people = np.asarray(people, dtype=np.intp)
     block = np.empty((xy.shape[0], people.size))
-    _d2min_kernel(
+    _d2min_culled_kernel(  # an infinite reach: no pair is culled
         np.ascontiguousarray(xy, dtype=np.float64),
-        np.ascontiguousarray(np.asarray(forecast, dtype=np.float64)[:, people]),
+        np.ascontiguousarray(np.asarray(forecast, dtype=np.float64)[:, people].transpose(1, 0, 2)),
+        np.full(people.size, np.inf),
         block,
     )
     out[:, people] = block
+
+
+@_jit
+def _d2min_ordered(poses, forecast, i, j):  # type: ignore[no-untyped-def]
+    """min over ``t`` of one pair's squared distances in order, NaN sticking as in ``np.min``."""
+    best = np.inf
+    for k in range(poses.shape[1]):
+        dx = poses[i, k, 0] - forecast[j, k, 0]
+        dy = poses[i, k, 1] - forecast[j, k, 1]
+        d = dx * dx + dy * dy
+        if d < best or d != d:
+            best = d
+    return best
+
+
+@_jit
+def _d2min_culled_kernel(poses, forecast, reach2, out):  # type: ignore[no-untyped-def]
+    """``out (N, J)`` = min over ``t`` of the squared distance of ``poses[i, t, :2]`` to
+    ``forecast[j, t]`` (``forecast (J, T, 2)``; ``np.min``'s value), for every pair whose
+    boxes (the trajectory's over all times, the person's over all times) come within
+    ``sqrt(reach2[j])``; ``inf`` for the pairs whose boxes are farther apart (their distance
+    is too at every time). Pairs with a non-finite point are never culled.
+
+    The minimum runs over four accumulators (the minimum of squared distances, never -0.0,
+    is the same whatever the order; one accumulator would make the loop wait on each
+    comparison); a pair where a NaN appears is redone in order, as ``np.min`` propagates it."""
+    n, t = poses.shape[0], poses.shape[1]
+    m = forecast.shape[0]
+    cull = False
+    for j in range(m):
+        if reach2[j] < np.inf:
+            cull = True
+    plo = np.empty((m, 2))
+    phi = np.empty((m, 2))
+    pfin = np.ones(m, dtype=np.bool_)
+    if cull:
+        for j in range(m):
+            for a in range(2):
+                plo[j, a] = np.inf
+                phi[j, a] = -np.inf
+            for k in range(t):
+                for a in range(2):
+                    v = forecast[j, k, a]
+                    if not np.isfinite(v):
+                        pfin[j] = False
+                    if v < plo[j, a]:
+                        plo[j, a] = v
+                    if v > phi[j, a]:
+                        phi[j, a] = v
+    t4 = t - t % 4
+    for i in range(n):
+        xlo = np.inf
+        xhi = -np.inf
+        ylo = np.inf
+        yhi = -np.inf
+        tfin = True
+        if cull:
+            for k in range(t):
+                x = poses[i, k, 0]
+                y = poses[i, k, 1]
+                if not (np.isfinite(x) and np.isfinite(y)):
+                    tfin = False
+                if x < xlo:
+                    xlo = x
+                if x > xhi:
+                    xhi = x
+                if y < ylo:
+                    ylo = y
+                if y > yhi:
+                    yhi = y
+        for j in range(m):
+            if cull and tfin and pfin[j]:
+                gx = max(xlo - phi[j, 0], 0.0) + max(plo[j, 0] - xhi, 0.0)
+                gy = max(ylo - phi[j, 1], 0.0) + max(plo[j, 1] - yhi, 0.0)
+                if gx * gx + gy * gy > reach2[j]:
+                    out[i, j] = np.inf
+                    continue
+            b0 = np.inf
+            b1 = np.inf
+            b2 = np.inf
+            b3 = np.inf
+            nan = False
+            for k in range(0, t4, 4):
+                dx = poses[i, k, 0] - forecast[j, k, 0]
+                dy = poses[i, k, 1] - forecast[j, k, 1]
+                d0 = dx * dx + dy * dy
+                dx = poses[i, k + 1, 0] - forecast[j, k + 1, 0]
+                dy = poses[i, k + 1, 1] - forecast[j, k + 1, 1]
+                d1 = dx * dx + dy * dy
+                dx = poses[i, k + 2, 0] - forecast[j, k + 2, 0]
+                dy = poses[i, k + 2, 1] - forecast[j, k + 2, 1]
+                d2 = dx * dx + dy * dy
+                dx = poses[i, k + 3, 0] - forecast[j, k + 3, 0]
+                dy = poses[i, k + 3, 1] - forecast[j, k + 3, 1]
+                d3 = dx * dx + dy * dy
+                nan |= (d0 != d0) | (d1 != d1) | (d2 != d2) | (d3 != d3)
+                b0 = d0 if d0 < b0 else b0
+                b1 = d1 if d1 < b1 else b1
+                b2 = d2 if d2 < b2 else b2
+                b3 = d3 if d3 < b3 else b3
+            for k in range(t4, t):
+                dx = poses[i, k, 0] - forecast[j, k, 0]
+                dy = poses[i, k, 1] - forecast[j, k, 1]
+                d0 = dx * dx + dy * dy
+                nan |= d0 != d0
+                b0 = d0 if d0 < b0 else b0
+            if nan:
+                out[i, j] = _d2min_ordered(poses, forecast, i, j)
+            else:
+                out[i, j] = min(min(b0, b1), min(b2, b3))
+
+
+def min_squared_distances_culled(
+    poses: NDArray[np.float64],
+    forecast: NDArray[np.float64],
+    people: NDArray[np.intp],
+    reach: NDArray[np.float64],
+    out: NDArray[np.float64],
+) -> None:
+    """:func:`min_squared_distances` for ``people`` (column indices), exact for every
+    (trajectory, person) pair that can come within ``reach (J,)`` m (one per listed person) and
+    ``inf`` for the pairs whose boxes provably stay farther apart (a relative margin of 1e-9
+    keeps the cull conservative against rounding); ``poses (N, T, 3)``, ``forecast (T, K, 2)``,
+    ``out (N, K)`` m², written in place."""
+    people = np.asarray(people, dtype=np.intp)
+    limit = np.asarray(reach, dtype=np.float64) * (1.0 + 1e-9) + 1e-9
+    block = np.empty((poses.shape[0], people.size))
+    _d2min_culled_kernel(
+        np.ascontiguousarray(poses, dtype=np.float64),
+        np.ascontiguousarray(np.asarray(forecast, dtype=np.float64)[:, people].transpose(1, 0, 2)),
+        limit * limit,
+        block,
+    )
+    out[:, people] = block
+
+
+@_jit
+def _person_distance_kernel(  # type: ignore[no-untyped-def]
+    d2min, cols, end, start, step, passing, r2, collide, out, hit
+):
+    """Per trajectory ``i`` and listed person ``c = cols[jj]``: ``out[i, jj]`` = the centre
+    distance ``sqrt(d2min[i, c])``, lowered to the passing distance of the walk ``start[c] +
+    s step[c]`` (``s`` in [0, 1]) from the end point ``end[i]`` where ``passing[jj]`` (the
+    operations of :func:`~socialnav.planner.critics.interpersonal.passing_distances` in its
+    order); ``hit[i]`` |= ``d2min[i, c] < r2[c]`` for the people with ``collide[jj]``."""
+    n, m = d2min.shape[0], cols.shape[0]
+    for i in range(n):
+        ex = end[i, 0]
+        ey = end[i, 1]
+        h = False
+        for jj in range(m):
+            c = cols[jj]
+            d2 = d2min[i, c]
+            if collide[jj] and d2 < r2[c]:
+                h = True
+            d = np.sqrt(d2)
+            if passing[jj]:
+                wx = ex - start[c, 0]
+                wy = ey - start[c, 1]
+                sx = step[c, 0]
+                sy = step[c, 1]
+                uu = sx * sx + sy * sy
+                s = 0.0
+                if uu > 0:
+                    s = (wx * sx + wy * sy) / uu
+                s = min(max(s, 0.0), 1.0)
+                gx = wx - s * sx
+                gy = wy - s * sy
+                p = np.sqrt(gx * gx + gy * gy)
+                if p < d or p != p:  # np.minimum: NaN propagates
+                    d = p
+            out[i, jj] = d
+        hit[i] = h
+
+
+def person_distances(
+    d2min: NDArray[np.float64],
+    cols: NDArray[np.intp],
+    end: NDArray[np.float64],
+    start: NDArray[np.float64],
+    step: NDArray[np.float64],
+    passing: NDArray[np.bool_],
+    r2: NDArray[np.float64],
+    collide: NDArray[np.bool_],
+) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
+    """``(N, J)`` centre distance (m) to each person of ``cols (J,)`` (the minimum over the
+    rollout, and with ``passing (J,)`` over the walk after it: ``start``/``step (K, 2)``, end
+    points ``end (N, 2)``) and ``(N,)`` whether any person with ``collide (J,)`` is within
+    ``sqrt(r2)`` (``d2min (N, K)`` m², :func:`min_squared_distances_culled`)."""
+    n = d2min.shape[0]
+    out = np.empty((n, cols.size))
+    hit = np.empty(n, dtype=np.bool_)
+    _person_distance_kernel(
+        np.ascontiguousarray(d2min, dtype=np.float64),
+        np.ascontiguousarray(cols, dtype=np.intp),
+        np.ascontiguousarray(end, dtype=np.float64),
+        np.ascontiguousarray(start, dtype=np.float64),
+        np.ascontiguousarray(step, dtype=np.float64),
+        np.ascontiguousarray(passing, dtype=np.bool_),
+        np.ascontiguousarray(r2, dtype=np.float64),
+        np.ascontiguousarray(collide, dtype=np.bool_),
+        out,
+        hit,
+    )
+    return out, hit
+
+
+@_jit
+def _approach_kernel(poses, t, forecast, d2min, cols, reach2, contact, speed, out):  # type: ignore[no-untyped-def]
+    """The rule of :func:`~socialnav.planner.critics.interpersonal.approaches` in its
+    operations: for each listed person ``c`` and each trajectory within ``reach2[c]`` of them,
+    at a sample in contact (``dist < contact[c]``) the faster of the steps arriving at and
+    leaving it closing faster than ``speed`` makes ``out[i]`` True."""
+    n, steps = poses.shape[0], poses.shape[1]
+    if steps < 2:
+        return
+    dt = np.empty(steps - 1)
+    for k in range(steps - 1):
+        dt[k] = max(t[k + 1] - t[k], 1e-9)
+    for jj in range(cols.shape[0]):
+        c = cols[jj]
+        for i in range(n):
+            if out[i] or not d2min[i, c] < reach2[c]:
+                continue
+            for k in range(steps):
+                rx = forecast[k, c, 0] - poses[i, k, 0]
+                ry = forecast[k, c, 1] - poses[i, k, 1]
+                dist = np.sqrt(rx * rx + ry * ry)
+                if not dist < contact[c]:
+                    continue
+                den = max(dist, 1e-9)
+                ux = rx / den
+                uy = ry / den
+                if k > 0:
+                    sx = (poses[i, k, 0] - poses[i, k - 1, 0]) / dt[k - 1]
+                    sy = (poses[i, k, 1] - poses[i, k - 1, 1]) / dt[k - 1]
+                    closing = sx * ux + sy * uy
+                else:
+                    closing = 0.0
+                if k < steps - 1:
+                    sx = (poses[i, k + 1, 0] - poses[i, k, 0]) / dt[k]
+                    sy = (poses[i, k + 1, 1] - poses[i, k, 1]) / dt[k]
+                    leave = sx * ux + sy * uy
+                    if leave > closing or leave != leave:
+                        closing = leave
+                elif closing < 0.0:
+                    closing = 0.0
+                if closing > speed:
+                    out[i] = True
+                    break
+
+
+def approaches(
+    poses: NDArray[np.float64],
+    t: NDArray[np.float64],
+    forecast: NDArray[np.float64],
+    d2min: NDArray[np.float64],
+    cols: NDArray[np.intp],
+    contact: NDArray[np.float64],
+    speed: float,
+) -> NDArray[np.bool_]:
+    """``(N,)`` trajectories (``poses (N, T, 3)`` float64, times ``t (T,)`` s) that close on a
+    person of ``cols`` (forecast ``(T, K, 2)``) faster than ``speed`` m/s while within
+    ``contact (K,)`` m of them; bit-identical to the NumPy rule
+    (:func:`socialnav.planner.critics.interpersonal.approaches`)."""
+    out = np.zeros(poses.shape[0], dtype=np.bool_)
+    contact = np.asarray(contact, dtype=np.float64)
+    _approach_kernel(
+        np.ascontiguousarray(poses, dtype=np.float64),
+        np.ascontiguousarray(t, dtype=np.float64),
+        np.ascontiguousarray(forecast, dtype=np.float64),
+        np.ascontiguousarray(d2min, dtype=np.float64),
+        np.ascontiguousarray(cols, dtype=np.intp),
+        (contact * (1.0 + 1e-9)) ** 2,
+        contact,
+        float(speed),
+        out,
+    )
+    return out
 
 
 @_jit
@@ -406,20 +705,73 @@ def time_box(xy: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.f
 
 @_jit
 def _nearest_vertex_kernel(points, vertices, out):  # type: ignore[no-untyped-def]
+    """``out[i]`` = first index of the smallest squared distance (``np.argmin``'s). Finite
+    inputs (no NaN possible) split the vertices over four interleaved accumulators, each
+    keeping its first minimum, and take the smallest, ties to the lowest index: the same
+    index, without waiting on every comparison; otherwise one ordered pass (NaN first)."""
+    nv = vertices.shape[0]
+    finite = True
+    for v in range(nv):
+        if not (np.isfinite(vertices[v, 0]) and np.isfinite(vertices[v, 1])):
+            finite = False
+    v4 = nv - nv % 4
     for i in range(points.shape[0]):
         px, py = points[i, 0], points[i, 1]
-        best = np.inf
-        arg = 0
-        for v in range(vertices.shape[0]):
+        if not (finite and np.isfinite(px) and np.isfinite(py)):
+            best = np.inf
+            arg = 0
+            for v in range(nv):
+                dx = px - vertices[v, 0]
+                dy = py - vertices[v, 1]
+                d = dx * dx + dy * dy
+                if d < best:
+                    best = d
+                    arg = v
+                elif d != d:  # argmin returns the first NaN
+                    arg = v
+                    break
+            out[i] = arg
+            continue
+        b0 = b1 = b2 = b3 = np.inf
+        a0, a1, a2, a3 = 0, 1, 2, 3
+        for v in range(0, v4, 4):
             dx = px - vertices[v, 0]
             dy = py - vertices[v, 1]
             d = dx * dx + dy * dy
-            if d < best:
-                best = d
-                arg = v
-            elif d != d:  # argmin returns the first NaN
-                arg = v
-                break
+            if d < b0:
+                b0, a0 = d, v
+            dx = px - vertices[v + 1, 0]
+            dy = py - vertices[v + 1, 1]
+            d = dx * dx + dy * dy
+            if d < b1:
+                b1, a1 = d, v + 1
+            dx = px - vertices[v + 2, 0]
+            dy = py - vertices[v + 2, 1]
+            d = dx * dx + dy * dy
+            if d < b2:
+                b2, a2 = d, v + 2
+            dx = px - vertices[v + 3, 0]
+            dy = py - vertices[v + 3, 1]
+            d = dx * dx + dy * dy
+            if d < b3:
+                b3, a3 = d, v + 3
+        for v in range(v4, nv):
+            dx = px - vertices[v, 0]
+            dy = py - vertices[v, 1]
+            d = dx * dx + dy * dy
+            if d < b0 or (d == b0 and v < a0):
+                b0, a0 = d, v
+        # An accumulator that never improved on inf holds a placeholder index: all-inf rows
+        # (or fewer than four vertices) must still give argmin's 0.
+        best, arg = np.inf, 0
+        if b0 < best:
+            best, arg = b0, a0
+        if b1 < best or (b1 == best and b1 < np.inf and a1 < arg):
+            best, arg = b1, a1
+        if b2 < best or (b2 == best and b2 < np.inf and a2 < arg):
+            best, arg = b2, a2
+        if b3 < best or (b3 == best and b3 < np.inf and a3 < arg):
+            best, arg = b3, a3
         out[i] = arg
 
 
@@ -435,6 +787,62 @@ def nearest_vertex(points: NDArray[np.float64], vertices: NDArray[np.float64]) -
         out,
     )
     return out
+
+
+# ---- map-grid end points --------------------------------------------------------------------
+
+
+@_jit
+def _end_point_kernel(poses, ox, oy, res, grid, passable, cost, unreachable, off_map):  # type: ignore[no-untyped-def]
+    """The operations of :func:`socialnav.planner.critics.map_grid.score_end_points` per end
+    point ``poses[i, -1]``: its cell (``floor((x - origin) / resolution)``), on the grid or
+    not, the grid's steps there (float32 widened) times the resolution, or ``inf`` where the
+    cell is blocked, unreached or off the map."""
+    n, last = poses.shape[0], poses.shape[1] - 1
+    rows, cols = grid.shape
+    for i in range(n):
+        fc = np.floor((poses[i, last, 0] - ox) / res)
+        fr = np.floor((poses[i, last, 1] - oy) / res)
+        if 0.0 <= fr < rows and 0.0 <= fc < cols:
+            r = int(fr)
+            c = int(fc)
+            steps = np.float64(grid[r, c])
+            bad = not passable[r, c] or not np.isfinite(steps)
+            unreachable[i] = bad
+            off_map[i] = False
+            cost[i] = np.inf if bad else steps * res
+        else:
+            unreachable[i] = False
+            off_map[i] = True
+            cost[i] = np.inf
+
+
+def end_point_costs(
+    poses: NDArray[np.float64],
+    origin: tuple[float, float],
+    resolution: float,
+    grid: NDArray[np.float32],
+    passable: NDArray[np.bool_],
+) -> tuple[NDArray[np.float64], NDArray[np.bool_], NDArray[np.bool_]]:
+    """``cost (N,)`` (m), ``unreachable (N,)`` and ``off_map (N,)`` of the end points of
+    ``poses (N, T, 3)`` float64 on a map ``grid (rows, cols)`` float32 of BFS steps with its
+    ``passable`` mask (bit-identical to the NumPy reference)."""
+    n = poses.shape[0]
+    cost = np.empty(n)
+    unreachable = np.empty(n, dtype=np.bool_)
+    off_map = np.empty(n, dtype=np.bool_)
+    _end_point_kernel(
+        np.ascontiguousarray(poses, dtype=np.float64),
+        float(origin[0]),
+        float(origin[1]),
+        float(resolution),
+        np.ascontiguousarray(grid, dtype=np.float32),
+        np.ascontiguousarray(passable, dtype=np.bool_),
+        cost,
+        unreachable,
+        off_map,
+    )
+    return cost, unreachable, off_map
 
 
 # ---- global planner graph --------------------------------------------------------------------
@@ -1007,6 +1415,23 @@ def densify_path(path: NDArray[np.float64], spacing: float) -> NDArray[np.float6
 
 
 @_jit
+def _arc_lengths_kernel(dense, out):  # type: ignore[no-untyped-def]
+    out[0] = 0.0
+    for k in range(1, dense.shape[0]):
+        dx = dense[k, 0] - dense[k - 1, 0]
+        dy = dense[k, 1] - dense[k - 1, 1]
+        out[k] = out[k - 1] + np.sqrt(dx * dx + dy * dy) if k > 1 else np.sqrt(dx * dx + dy * dy)
+
+
+def arc_lengths(dense: NDArray[np.float64]) -> NDArray[np.float64]:
+    """``(P,)`` arc length (m) at each vertex of a ``(P, 2)`` polyline, P >= 1: the values of
+    ``concatenate([[0], cumsum(norm(diff(dense), axis=1))])`` in one pass."""
+    out = np.empty(dense.shape[0])
+    _arc_lengths_kernel(np.ascontiguousarray(dense, dtype=np.float64), out)
+    return out
+
+
+@_jit
 def _plan_cells_kernel(dense, ox, oy, res, costs, unknown):  # type: ignore[no-untyped-def]
     # local_plan_cells' reference: world_to_cell per point, then the first contiguous run of
     # in-grid cells that are not UNKNOWN.
@@ -1207,13 +1632,22 @@ def warmup() -> float:
         occupancy_scan(poses, 1, costs, (0.0, 0.0), 0.25, data, clr, circ, sizes, 8)
     out = np.full((2, 1), np.inf)
     min_squared_distances(poses, np.zeros((4, 1, 2)), np.array([0], np.intp), out)
+    people = np.array([0], np.intp)
+    min_squared_distances_culled(poses, np.zeros((4, 1, 2)), people, np.ones(1), out)
+    walk = np.zeros((1, 2))
+    flags = np.ones(1, dtype=np.bool_)
+    person_distances(out, people, poses[:, -1, :2], walk, walk, flags, np.ones(1), flags)
+    approaches(poses, t, np.zeros((4, 1, 2)), out, people, np.ones(1), 0.02)
     bfs_distance(np.ones((3, 3), dtype=bool), np.array([[1, 1]], dtype=np.intp))
     footprint_mask(GridGeometry((4, 4), 0.25), outline, pose)
     dense = densify_path(np.array([[0.0, 0.0], [1.0, 0.5]]), 0.1)
+    arc_lengths(dense)
     plan_cells(GridGeometry((4, 4), 0.25), costs, dense, 255)
     clearance_levels(costs != 0, 3.0, 0, 0, np.zeros((4, 4), np.uint16)[1:3, 1:3])
     time_box(poses)
     nearest_vertex(poses[:, -1], np.zeros((2, 2)))
+    end_point_costs(poses, (0.0, 0.0), 0.25, np.zeros((4, 4), np.float32), costs == 0)
+    hit_codes(costs, 253, 2, 2)
     grid_weights(costs, costs == 0, np.array([[0, 1]]), np.array([0.25]), 50.0, 3.0)
     proxemic_costs(GridGeometry((4, 4), 0.25), np.ones((1, 2)), np.ones((1, 2)), passing=True)
     from socialnav.world.raster import rasterize

@@ -102,11 +102,38 @@ def closest_approach(record: EpisodeRecord) -> tuple[int, int, float] | None:
     return int(t), int(k), float(d[t, k])
 
 
+def _reach_bounding_walls(
+    lo: FloatArray, hi: FloatArray, segments: FloatArray, reach: float
+) -> tuple[FloatArray, FloatArray]:
+    """Grow ``lo``/``hi`` to the nearest wall beyond each side (within ``reach`` m, +0.3 m).
+
+    Without it a corridor's far wall is cut when the robot kept to one side, and the picture
+    hides the room the robot had. ``segments`` is ``(S, 2, 2)``.
+    """
+    lo, hi = lo.copy(), hi.copy()
+    seg_lo, seg_hi = segments.min(axis=1), segments.max(axis=1)  # (S, 2) boxes
+    for axis in (0, 1):
+        other = 1 - axis
+        # walls that face the region across this axis
+        facing = (seg_hi[:, other] >= lo[other]) & (seg_lo[:, other] <= hi[other])
+        below = facing & (seg_hi[:, axis] < lo[axis]) & (seg_hi[:, axis] >= lo[axis] - reach)
+        above = facing & (seg_lo[:, axis] > hi[axis]) & (seg_lo[:, axis] <= hi[axis] + reach)
+        if below.any():
+            lo[axis] = seg_hi[below, axis].max() - 0.3
+        if above.any():
+            hi[axis] = seg_lo[above, axis].min() + 0.3
+    return lo, hi
+
+
 def region_of_interest(
-    records: Sequence[EpisodeRecord], margin: float = 1.0, min_span: float = 4.0
+    records: Sequence[EpisodeRecord],
+    margin: float = 1.0,
+    min_span: float = 4.0,
+    wall_reach: float = 3.0,
 ) -> tuple[float, float, float, float]:
-    """``(xmin, xmax, ymin, ymax)``: robot paths, people, goals and social geometry plus
-    ``margin`` (m), at least ``min_span`` wide, clipped to the walls' extent (+0.3 m)."""
+    """``(xmin, xmax, ymin, ymax)`` in metres, map frame: robot paths, people, goals and social
+    geometry plus ``margin`` (m), at least ``min_span`` wide, grown to the nearest wall on each
+    side when it is within ``wall_reach`` (m), clipped to the walls' extent (+0.3 m)."""
     pts: list[FloatArray] = []
     world: list[FloatArray] = []
     for r in records:
@@ -127,6 +154,9 @@ def region_of_interest(
     lo, hi = p.min(axis=0) - margin, p.max(axis=0) + margin
     centre, span = 0.5 * (lo + hi), np.maximum(hi - lo, min_span)
     lo, hi = centre - span / 2, centre + span / 2
+    walls = [r.walls.reshape(-1, 2, 2) for r in records if r.walls.size]
+    if walls:
+        lo, hi = _reach_bounding_walls(lo, hi, np.concatenate(walls), wall_reach)
     if world:
         w = np.concatenate(world)
         lo = np.maximum(lo, w.min(axis=0) - 0.3)

@@ -20,6 +20,7 @@ Deviations and choices (the paper does not define GD or "close"):
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import lru_cache
 from typing import TYPE_CHECKING, ClassVar, Literal
 
 import numpy as np
@@ -45,11 +46,23 @@ def group_ospaces(
     for group in social.groups:
         if not group.member_ids:
             continue
-        c, r = o_space(social.positions(group.member_ids), margin)
+        positions = np.ascontiguousarray(social.positions(group.member_ids), dtype=float)
+        c, r = _o_space(positions.tobytes(), positions.shape[0], float(margin))
         if r > 0:
             centers.append(c)
             radii.append(r)
     return np.array(centers, dtype=float).reshape(-1, 2), np.array(radii, dtype=float)
+
+
+@lru_cache(maxsize=64)
+def _o_space(positions: bytes, count: int, margin: float) -> tuple[FloatArray, float]:
+    """:func:`~socialnav.social.spaces.o_space` of ``count`` member positions (float64 bytes),
+    remembered: a standing group is fitted once, not every control cycle (the fit is a few
+    small linear-algebra calls, ~0.1 ms). The centre is read-only (shared)."""
+    center, radius = o_space(np.frombuffer(positions, dtype=float).reshape(count, 2), margin)
+    center = np.array(center, dtype=float)
+    center.flags.writeable = False
+    return center, radius
 
 
 @CRITICS.register("group")

@@ -63,12 +63,19 @@ class HeadingCritic(Critic):
         if path.shape[0] == 0:
             raise CriticUnavailable("empty global plan")
         dense = densify_path(path, self.spacing)
-        s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(dense, axis=0), axis=1))])
         reach = ctx.cache.reach
         horizon = float(np.inf if reach is None else reach) + 2.0 + self.heading_lookahead
-        keep = s <= horizon
-        keep[0] = True
-        dense, s = dense[keep], s[keep]
+        if kernels.enabled() and dense.dtype == np.float64 and np.isfinite(dense).all():
+            # One pass for the arc lengths; they never decrease, so the kept vertices are a
+            # prefix (the same ones as the mask below).
+            s = kernels.arc_lengths(dense)
+            kept = max(int(np.searchsorted(s, horizon, side="right")), 1)
+            dense, s = dense[:kept].copy(), s[:kept].copy()
+        else:
+            s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(dense, axis=0), axis=1))])
+            keep = s <= horizon
+            keep[0] = True
+            dense, s = dense[keep], s[keep]
         # Tangent at each vertex: direction of the segment arriving at it (first: leaving it).
         if dense.shape[0] > 1:
             d = np.diff(dense, axis=0)

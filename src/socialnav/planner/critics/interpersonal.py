@@ -64,6 +64,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, ClassVar, Literal
 
 import numpy as np
+from numpy.typing import NDArray
 
 from socialnav.core.errors import ConfigurationError
 from socialnav.core.geometry import FloatArray
@@ -99,9 +100,12 @@ def min_squared_distances(
     Exact wherever the distance can be ``<= reach[k]`` (m, per person); a person who provably
     stays farther than ``reach[k]`` from every rollout point at every time gets ``inf`` (culled:
     the bound is the distance from the person to the box of all trajectory points at that
-    time). Shared through ``ctx.cache.people_distances`` within a cycle: computed once per
-    (trajectory batch, forecast) — the cache keeps the batch itself and compares by identity —
-    and extended when a later caller's ``reach`` needs more people.
+    time). The compiled path also culls single (trajectory, person) pairs whose boxes over the
+    whole rollout stay farther apart than ``reach[k]`` (``inf`` there too; the reference keeps
+    those exact). Shared through ``ctx.cache.people_distances`` within a cycle: computed once
+    per (trajectory batch, forecast) — the cache keeps the batch itself and compares by
+    identity — and extended when a later caller's ``reach`` needs more people or a larger
+    reach.
     """
     entry = ctx.cache.people_distances
     if entry is None or entry.trajs is not trajs:
@@ -112,16 +116,15 @@ def min_squared_distances(
         gap = np.maximum(lo[:, None] - forecast, 0.0) + np.maximum(forecast - hi[:, None], 0.0)
         bound = np.sqrt((gap * gap).sum(axis=-1)).min(axis=0)  # (K,)
         d2min = np.full((len(trajs), forecast.shape[1]), np.inf)
-        entry = PeopleDistances(
-            trajs, forecast, bound, np.zeros(forecast.shape[1], dtype=bool), d2min
-        )
+        entry = PeopleDistances(trajs, forecast, bound, np.full(forecast.shape[1], -np.inf), d2min)
         ctx.cache.people_distances = entry
-    forecast, bound, done, d2min = entry.forecast, entry.bound, entry.done, entry.d2min
+    forecast, bound, covered, d2min = entry.forecast, entry.bound, entry.covered, entry.d2min
     # A relative margin keeps the cull conservative against rounding in the bound.
-    todo = ~done & (bound <= reach * (1.0 + 1e-9) + 1e-9)
+    todo = (reach > covered) & (bound <= reach * (1.0 + 1e-9) + 1e-9)
     if todo.any() and kernels.enabled():
-        kernels.min_squared_distances(trajs.poses, forecast, np.flatnonzero(todo), d2min)
-        done |= todo
+        cols = np.flatnonzero(todo)
+        kernels.min_squared_distances_culled(trajs.poses, forecast, cols, reach[cols], d2min)
+        covered[todo] = reach[todo]
     elif todo.any():
         xs = np.ascontiguousarray(trajs.xy[..., 0])  # (N, T)
         ys = np.ascontiguousarray(trajs.xy[..., 1])
@@ -133,8 +136,29 @@ def min_squared_distances(
             np.multiply(dy, dy, out=dy)
             np.add(dx, dy, out=dx)
             d2min[:, j] = dx.min(axis=1)
-        done |= todo
+        covered[todo] = np.inf
     return d2min
+
+
+def passing_walks(
+    trajs: Trajectories, ctx: PlanningContext, horizon: float, reach: FloatArray | None = None
+) -> tuple[FloatArray, FloatArray, NDArray[np.intp]]:
+    """Each person's walk after the rollout for :func:`passing_distances`: ``start (K, 2)``
+    (m, world: the forecast position at the rollout's end), ``step (K, 2)`` (m: velocity ×
+    ``horizon`` s), and the people ``(K',)`` whose walk can come within ``reach (K,)`` m of an
+    end point (all without ``reach``)."""
+    end = trajs.xy[:, -1]  # (N, 2)
+    t_end = np.asarray(trajs.t[-1:], dtype=float)
+    start = ctx.people_at(t_end)[0]  # (K, 2)
+    step = ctx.social.velocities() * horizon  # (K, 2): the walk after the rollout
+    cols = np.arange(start.shape[0])
+    if reach is not None:
+        lo, hi = end.min(axis=0), end.max(axis=0)
+        seg_lo, seg_hi = np.minimum(start, start + step), np.maximum(start, start + step)
+        gap = np.maximum(lo - seg_hi, 0.0) + np.maximum(seg_lo - hi, 0.0)  # (K, 2)
+        bound = np.sqrt((gap * gap).sum(axis=1))
+        cols = np.flatnonzero(bound <= reach * (1.0 + 1e-9) + 1e-9)
+    return start, step, cols
 
 
 def passing_distances(
@@ -148,17 +172,8 @@ def passing_distances(
     every end point gets ``inf`` (the bound: the gap between the walk's box and the end points'
     box), as :func:`min_squared_distances` culls."""
     end = trajs.xy[:, -1]  # (N, 2)
-    t_end = np.asarray(trajs.t[-1:], dtype=float)
-    start = ctx.people_at(t_end)[0]  # (K, 2)
-    step = ctx.social.velocities() * horizon  # (K, 2): the walk after the rollout
+    start, step, cols = passing_walks(trajs, ctx, horizon, reach)
     out = np.full((end.shape[0], start.shape[0]), np.inf)
-    cols = np.arange(start.shape[0])
-    if reach is not None:
-        lo, hi = end.min(axis=0), end.max(axis=0)
-        seg_lo, seg_hi = np.minimum(start, start + step), np.maximum(start, start + step)
-        gap = np.maximum(lo - seg_hi, 0.0) + np.maximum(seg_lo - hi, 0.0)  # (K, 2)
-        bound = np.sqrt((gap * gap).sum(axis=1))
-        cols = np.flatnonzero(bound <= reach * (1.0 + 1e-9) + 1e-9)
     start, step = start[cols], step[cols]
     w = end[:, None, :] - start[None]  # (N, K', 2)
     uu = (step * step).sum(axis=1)  # (K',)
@@ -273,6 +288,14 @@ class InterpersonalCritic(Critic):
             if self.collision_check:
                 reach = np.maximum(reach, radii + robot_r)
             d2min = min_squared_distances(trajs, ctx, reach)  # (N, K)
+        if (
+            d2min is not None
+            and kernels.enabled()
+            and self.evaluation == "max_over_time"
+            and self.person_slot is None
+            and trajs.poses.dtype == np.float64
+        ):
+            return self._score_compiled(trajs, ctx, d2min, reach, robot_r)
 
         if self.evaluation == "last":
             d = np.linalg.norm(xy[:, -1, None, :] - people_now[None], axis=-1)  # (N, K)
@@ -317,6 +340,65 @@ class InterpersonalCritic(Critic):
             if self.approach_check:
                 illegal["person_approach"] = approaches(
                     trajs, ctx, d2min, radii + robot_r, self.approach_speed
+                )
+        return CriticScore(np.ascontiguousarray(cost, dtype=float), illegal)
+
+    def _score_compiled(
+        self,
+        trajs: Trajectories,
+        ctx: PlanningContext,
+        d2min: FloatArray,
+        reach: FloatArray,
+        robot_r: float,
+    ) -> CriticScore:
+        """:meth:`score` for ``max_over_time`` over every person, on the compiled kernels and
+        only over the people that can matter: those whose distances were computed
+        (:func:`min_squared_distances`) or whose walk after the rollout can come within
+        ``reach``; everyone else is beyond ``reach`` (cost 0, no collision, no approach), as in
+        the reference. Bit-identical: the kernels repeat the reference's operations, and the
+        people left out contribute 0 to a maximum of non-negative costs."""
+        entry = ctx.cache.people_distances
+        assert entry is not None and entry.d2min is d2min
+        radii = ctx.social.radii()
+        k = radii.shape[0]
+        computed = entry.covered > -np.inf  # other columns are all inf
+        passing = np.zeros(k, dtype=bool)
+        start = step = np.zeros((k, 2))
+        if self.hold_horizon > 0 and ctx.predict_people:
+            start, step, walks = passing_walks(trajs, ctx, self.hold_horizon, reach)
+            passing[walks] = True
+        cols = np.flatnonzero(computed | passing)
+        contact = radii + robot_r
+        r2 = contact**2
+        touching = np.zeros(k, dtype=bool)
+        if self.collision_check:
+            touching = ((ctx.social.positions() - ctx.pose[:2]) ** 2).sum(axis=1) < r2
+        collide = np.full(cols.size, self.collision_check) & ~touching[cols]
+        end = trajs.poses[:, -1, :2]
+        d, hit = kernels.person_distances(d2min, cols, end, start, step, passing[cols], r2, collide)
+        if self.distance == "edge":
+            d = np.maximum(d - radii[cols] - robot_r, 0.0)
+        if self.partner_distance:
+            own = partner_thresholds(ctx, self.threshold, self.partner_margin)  # (K,)
+            d = d * (self.threshold / own)[cols][None, :]
+        f = capped_inverse_exp(d, self.threshold, self.min_distance)  # (N, J)
+        cost = f.max(axis=1, initial=0.0)
+        illegal: dict[str, np.ndarray] = {}
+        if self.collision_check:
+            xy = trajs.xy
+            for j in np.flatnonzero(touching):  # escape from overlap, as in the reference
+                dj = ((xy - entry.forecast[None, :, j]) ** 2).sum(axis=-1)  # (N, T)
+                hit |= ~np.all(np.diff(dj, axis=1) >= -1e-12, axis=1)
+            illegal["person_collision"] = hit
+            if self.approach_check:
+                illegal["person_approach"] = kernels.approaches(
+                    trajs.poses,
+                    trajs.t,
+                    entry.forecast,
+                    d2min,
+                    np.flatnonzero(computed),
+                    contact,
+                    self.approach_speed,
                 )
         return CriticScore(np.ascontiguousarray(cost, dtype=float), illegal)
 

@@ -308,6 +308,11 @@ def score_end_points(
 ) -> CriticScore:
     """Read a map grid (steps) at each trajectory's last point; metres; illegal masks."""
     geom = ctx.costmap.geometry
+    if kernels.enabled() and trajs.poses.dtype == np.float64:  # one pass, the same values
+        cost, unreachable, off_map = kernels.end_point_costs(
+            trajs.poses, geom.origin, geom.resolution, grid, passable_cells(ctx)
+        )
+        return CriticScore(cost, {"unreachable": unreachable, "off_map": off_map})
     rc = geom.world_to_cell(trajs.poses[:, -1, :2])
     inside = geom.in_bounds(rc)
     r = np.where(inside, rc[:, 0], 0)

@@ -287,9 +287,12 @@ def _prepare_outline(ctx: PlanningContext) -> None:
     costs = ctx.costmap.costs
     rows, cols = costs.shape
     # LETHAL (254) → 1, UNKNOWN (255) → 2, anything lower → 0; the border reads UNKNOWN.
-    codes = np.full((rows + 2 * pad, cols + 2 * pad), _UNSEEN, dtype=np.uint8)
-    inner = codes[pad : pad + rows, pad : pad + cols]
-    np.subtract(np.maximum(costs, np.uint8(INSCRIBED)), np.uint8(INSCRIBED), out=inner)
+    if kernels.enabled() and costs.dtype == np.uint8:  # one compiled pass, the same codes
+        codes = kernels.hit_codes(costs, INSCRIBED, int(_UNSEEN), pad)
+    else:
+        codes = np.full((rows + 2 * pad, cols + 2 * pad), _UNSEEN, dtype=np.uint8)
+        inner = codes[pad : pad + rows, pad : pad + cols]
+        np.subtract(np.maximum(costs, np.uint8(INSCRIBED)), np.uint8(INSCRIBED), out=inner)
     ctx.cache.occupancy_codes = (codes, pad)
 
 

@@ -59,6 +59,15 @@ and on generated circles 25° joins one more of 105 (``bench_context.py``). ``re
 and ``reuse_angle``: see :class:`FFormationDetector` (incremental solving across control
 cycles).
 
+Coarse headings. The defaults assume headings accurate to about 10° (the simulator's
+perception model). A source whose headings are quantised more coarsely needs its own set,
+fitted the same way on Synth with its headings quantised to that step: for four directions
+(90°, CoffeeBreak's head-pose classes) that is ``stride`` 0.4, ``sigma`` 0.15,
+``sigma_along`` 0.15, ``mdl`` 25, ``heading_tolerance`` 40° (``bench_context.py``, with
+``sigma_along`` from σ and the tolerance up to half the step; the defaults' grid keeps
+``sigma_along >= 3σ`` and leaves CoffeeBreak where it was). Widening σ and ``merge_facing``
+by the quantisation error instead, without refitting, does worse on both data sets.
+
 Output: groups of at least two members with o-space centre (the fitted centre), radius (the mean
 member distance to it) and a score ``1 − mean cost / mdl`` in [0, 1]: the margin by which
 joining beats standing alone (1: every vote on the centre; 0: no better than alone).
