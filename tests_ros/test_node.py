@@ -3,6 +3,7 @@ partly dynamic, stale inputs stop the robot within its limits with an ERROR diag
 
 from __future__ import annotations
 
+import threading
 import time
 from collections.abc import Callable, Iterator
 
@@ -124,18 +125,8 @@ def people(node: Node) -> PoseArray:
     return msg
 
 
-@pytest.mark.parametrize("stale", ["odometry", "people"])
-def test_stale_input_stops_within_the_limits(graph, stale: str) -> None:
-    node, peer, executor = graph
-    cmds: list[tuple[float, np.ndarray]] = []
-    diags: list[DiagnosticStatus] = []
-    peer.create_subscription(
-        Twist,
-        "cmd_vel",
-        lambda m: cmds.append((time.monotonic(), np.array([m.linear.x, m.linear.y, m.angular.z]))),
-        10,
-    )
-    peer.create_subscription(DiagnosticArray, "/diagnostics", lambda m: diags.extend(m.status), 10)
+def activate_with_goal(node: SocialNavNode, peer: Node, executor: SingleThreadedExecutor):
+    """Map, configure, activate, a goal 7 m ahead; the odometry and people publishers."""
     peer.create_publisher(OccupancyGrid, "map", LATCHED).publish(open_map())
     odom_pub = peer.create_publisher(Odometry, "odom", qos_profile_sensor_data)
     people_pub = peer.create_publisher(PoseArray, "people", qos_profile_sensor_data)
@@ -149,6 +140,22 @@ def test_stale_input_stops_within_the_limits(graph, stale: str) -> None:
     goal.pose.position.x, goal.pose.orientation.w = 7.0, 1.0
     goal_pub.publish(goal)
     assert spin_until(executor, lambda: node.goal is not None, 2.0)
+    return odom_pub, people_pub
+
+
+@pytest.mark.parametrize("stale", ["odometry", "people"])
+def test_stale_input_stops_within_the_limits(graph, stale: str) -> None:
+    node, peer, executor = graph
+    cmds: list[tuple[float, np.ndarray]] = []
+    diags: list[DiagnosticStatus] = []
+    peer.create_subscription(
+        Twist,
+        "cmd_vel",
+        lambda m: cmds.append((time.monotonic(), np.array([m.linear.x, m.linear.y, m.angular.z]))),
+        10,
+    )
+    peer.create_subscription(DiagnosticArray, "/diagnostics", lambda m: diags.extend(m.status), 10)
+    odom_pub, people_pub = activate_with_goal(node, peer, executor)
     # drive with fresh inputs: the robot reports moving at 0.4 m/s
     x, end = 0.0, time.monotonic() + 1.0
     while time.monotonic() < end:
@@ -175,6 +182,41 @@ def test_stale_input_stops_within_the_limits(graph, stale: str) -> None:
     assert np.all(steps[:, 0] <= PIONEER.acc_lim_x * 2 * period + 1e-9), steps[:, 0]
     errors = [d for d in diags if d.level == DiagnosticStatus.ERROR]
     assert errors and f"{stale} older than" in errors[-1].message
+
+
+def test_periodic_replan_runs_off_the_control_cycle(graph) -> None:
+    """With the default ``replan_mode`` the periodic global replan runs on the navigator's
+    worker thread, not in the cycle; a rebuilt planner's worker is stopped."""
+    node, peer, executor = graph
+    odom_pub, people_pub = activate_with_goal(node, peer, executor)
+    assert node.values["replan_mode"] == "deferred"
+    threads: list[str] = []
+    x, end, patched = 0.0, time.monotonic() + 3.0, None
+    while time.monotonic() < end:
+        nav = node.navigator
+        if nav is not None and nav is not patched:  # record where each plan is computed
+            compute = nav._compute_plan
+
+            def traced(*args, _compute=compute):
+                threads.append(threading.current_thread().name)
+                return _compute(*args)
+
+            nav._compute_plan, patched = traced, nav
+        x += 0.02
+        odom_pub.publish(odom(peer, x, 0.4))
+        people_pub.publish(people(peer))
+        spin_until(executor, lambda: False, 0.05)
+    assert patched is node.navigator and patched.global_search == "compiled"
+    # (the first plan, inline, came before the patch) every later one ran on the worker
+    assert threads and all(name.startswith("socialnav-replan") for name in threads), threads
+    ok = node.set_parameters([Parameter("path_distance_bias", value=1.5)])
+    assert all(r.successful for r in ok)
+    spin_until(executor, lambda: node.navigator is not patched, 1.0)  # no odometry: watchdog
+    x += 0.02
+    odom_pub.publish(odom(peer, x, 0.4))
+    people_pub.publish(people(peer))
+    assert spin_until(executor, lambda: node.navigator is not patched, 2.0)
+    assert patched._executor is None  # closed when the planner was rebuilt
 
 
 @pytest.mark.parametrize("good", [True, False])

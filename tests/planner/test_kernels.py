@@ -268,7 +268,7 @@ def test_warmup_covers_selection_search_and_layers() -> None:
     fns = {
         "astar": kernels._astar_kernel,
         "proxemic": kernels._proxemic_exponents,
-        "scatter": kernels._scatter_max,
+        "scatter": kernels._scatter_cost,
         "s_star": paccet._s_star_kernel,
         "front": nondominated._front_kernel,
     }
@@ -531,6 +531,79 @@ def test_proxemic_layer_identical(
     amplitude, variance, cutoff, factor = params
     args = (geo, pos, vel, amplitude, variance, cutoff, factor, passing)
     assert np.array_equal(kernels.proxemic_costs(*args), proxemic_costs(*args))
+
+
+@settings(max_examples=40)
+@given(
+    seed=st.integers(0, 2**31 - 1),
+    discs=st.integers(0, 60),
+    res=st.sampled_from([0.025, 0.05, 0.1, 0.3, 0.25]),
+)
+def test_disc_raster_identical(seed: int, discs: int, res: float) -> None:
+    """The compiled disc rasterizer marks the reference's cells: discs on, across and off the
+    grid's edges, radius 0 to larger than the grid, cell-aligned centres (ties at ``r²``)."""
+    rng = np.random.default_rng(seed)
+    shape = tuple(int(v) for v in rng.integers(1, 90, 2))
+    # A binary resolution and origin make exact ties at r² (centre on a cell centre, radius
+    # a whole number of cells).
+    origin = rng.integers(-12, 12, 2) * 0.25 if res == 0.25 else rng.uniform(-3, 3, 2)
+    geo = GridGeometry(shape, res, (float(origin[0]), float(origin[1])))
+    lo = np.array(geo.origin) - 1.0
+    hi = np.array(geo.origin) + res * np.array(shape[::-1]) + 1.0
+    d = np.column_stack([rng.uniform(lo, hi, (discs, 2)), rng.exponential(0.4, discs)])
+    if discs:
+        d[: discs // 3, :2] = (
+            np.array(geo.origin) + (rng.integers(0, 20, (discs // 3, 2)) + 0.5) * res
+        )
+        d[: discs // 4, 2] = res * rng.integers(0, 5, discs // 4)
+    out = {}
+    for flag in (False, True):
+        with compiled(flag):
+            out[flag] = rasterize(geo, discs=d)
+    assert out[True].dtype == np.bool_
+    assert np.array_equal(out[False], out[True])
+
+
+@settings(max_examples=25)
+@given(seed=st.integers(0, 2**31 - 1), searches=st.integers(2, 6))
+def test_kept_search_workspace_equals_fresh_arrays(seed: int, searches: int) -> None:
+    """A* on the thread's kept arrays (only the last search's entries reset) returns exactly
+    the arrays of a fresh search, over a sequence of maps, sizes, goals and exhaustive runs;
+    two threads searching at once each get their own results."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    from socialnav.planner.global_planner import _OFFSETS, traversable
+
+    if not kernels.enabled():
+        pytest.skip("reference path selected")
+    rng = np.random.default_rng(seed)
+    offsets = np.array(_OFFSETS)
+    steps = np.array([0.1 * float(np.hypot(dr, dc)) for dr, dc in _OFFSETS])
+    cases = []
+    sizes = [tuple(int(v) for v in rng.integers(3, 40, 2)) for _ in range(2)]
+    for k in range(searches):
+        shape = sizes[0] if k < 2 else sizes[int(rng.integers(2))]  # same size: kept arrays
+        costs = rng.integers(0, 253, shape).astype(np.uint8)
+        costs[rng.random(shape) < rng.uniform(0.0, 0.4)] = 254
+        n = costs.size
+        goal = int(rng.integers(-1, n))
+        cases.append((costs, traversable(costs), int(rng.integers(n)), goal))
+
+    def run(case, reuse):
+        costs, passable, start, goal = case
+        dist, pred = kernels.astar(
+            costs, passable, start, goal, offsets, steps, 50.0, 3.0, 0.1, reuse=reuse
+        )
+        return dist.copy(), pred.copy()
+
+    fresh = [run(case, False) for case in cases]
+    for case, (d0, p0) in zip(cases, fresh, strict=True):
+        d1, p1 = run(case, True)
+        assert np.array_equal(d0, d1) and np.array_equal(p0, p1)
+    with ThreadPoolExecutor(2) as pool:
+        both = list(pool.map(lambda case: run(case, True), cases * 2))
+    for (d0, p0), (d1, p1) in zip(fresh * 2, both, strict=True):
+        assert np.array_equal(d0, d1) and np.array_equal(p0, p1)
 
 
 @settings(max_examples=80)

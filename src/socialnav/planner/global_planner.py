@@ -199,6 +199,7 @@ def plan_path(
             neutral_cost,
             cost_factor,
             geo.resolution,
+            reuse=True,  # this thread's kept arrays: read below, before any other search
         )
     else:
         graph = grid_graph(costs, geo.resolution, passable, neutral_cost, cost_factor)
@@ -212,12 +213,15 @@ def plan_path(
         if g_idx == s_idx:
             return GlobalPlan(np.stack([start, goal]), "OK", 0.0, goal)
 
-    chain = [g_idx]
-    node = g_idx
-    while node != s_idx:
-        node = int(pred[node])
-        chain.append(node)
-    nodes = np.asarray(chain[::-1])
+    if kernels.enabled():
+        nodes = kernels.predecessor_chain(pred, s_idx, g_idx)
+    else:
+        chain = [g_idx]
+        node = g_idx
+        while node != s_idx:
+            node = int(pred[node])
+            chain.append(node)
+        nodes = np.asarray(chain[::-1])
     centres = geo.cell_to_world(np.stack([nodes // cols, nodes % cols], axis=-1))
     path = np.concatenate([start[None], centres[1:-1], goal[None]], axis=0)
     return GlobalPlan(path, "OK", float(dist[g_idx]), goal)

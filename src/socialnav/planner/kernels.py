@@ -24,7 +24,9 @@ and is called when a planner is built, so no control step ever compiles. Its dur
 from __future__ import annotations
 
 import os
+import threading
 import time
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -938,18 +940,17 @@ def _heap_down(hk, hn, pos, size, key, node):  # type: ignore[no-untyped-def]
 
 @_jit
 def _astar_kernel(  # type: ignore[no-untyped-def]
-    costs, passable, start, goal, offsets, steps, neutral, half_factor, h_scale, dist, pred
-):
+    costs, passable, start, goal, offsets, steps, neutral, half_factor, h_scale, dist, pred,
+    pos, hk, hn, touched,
+):  # fmt: skip
     """A* over the 8-slot grid graph of :func:`grid_weights` (its edge weights, computed on
     the fly with the same operations), from ``start`` (flat index) until ``goal`` (flat index,
     or -1 for an exhaustive search) is settled. Heap key ``(g + h, node)``; ``h`` = octile
-    distance x ``h_scale`` (a lower bound of every move's cost, so consistent). Returns the
-    number of settled nodes."""
+    distance x ``h_scale`` (a lower bound of every move's cost, so consistent).
+    ``dist``/``pred``/``pos`` (heap slot, -2 once settled) must hold ``inf``/-1/-1 on entry;
+    every node given a cost is listed in ``touched`` (:func:`_astar_reset` restores those).
+    Returns how many are listed."""
     rows, cols = costs.shape
-    n = rows * cols
-    hk = np.empty(n)
-    hn = np.empty(n, dtype=np.int64)
-    pos = np.full(n, -1, dtype=np.int64)  # heap slot; -2 once settled
     gr, gc = 0, 0
     if goal >= 0:
         gr = goal // cols
@@ -958,13 +959,13 @@ def _astar_kernel(  # type: ignore[no-untyped-def]
     hk[0] = 0.0
     hn[0] = start
     pos[start] = 0
+    touched[0] = start
+    listed = 1
     size = 1
-    settled = 0
     diag = np.sqrt(2.0) - 1.0
     while size > 0:
         u = hn[0]
         pos[u] = -2
-        settled += 1
         size -= 1
         if size > 0:
             _heap_down(hk, hn, pos, size, hk[size], hn[size])
@@ -999,8 +1000,46 @@ def _astar_kernel(  # type: ignore[no-untyped-def]
                 if slot == -1:
                     slot = size
                     size += 1
+                    touched[listed] = v
+                    listed += 1
                 _heap_up(hk, hn, pos, slot, nd + h, v)
-    return settled
+    return listed
+
+
+@_jit
+def _astar_reset(touched, listed, dist, pred, pos):  # type: ignore[no-untyped-def]
+    for i in range(listed):
+        v = touched[i]
+        dist[v] = np.inf
+        pred[v] = -1
+        pos[v] = -1
+
+
+class _SearchWorkspace(threading.local):
+    """One set of A* arrays per thread (the replanning worker and the control thread may
+    search at once), kept between searches: only the entries the last search touched are
+    reset, instead of allocating and filling ``5 x rows·cols`` entries per replan."""
+
+    def __init__(self) -> None:
+        self.n = -1
+        self.listed = 0
+
+    def arrays(self, n: int) -> tuple[Any, ...]:
+        if self.n != n:
+            self.dist = np.full(n, np.inf)
+            self.pred = np.full(n, -1, dtype=np.int64)
+            self.pos = np.full(n, -1, dtype=np.int64)
+            self.hk = np.empty(n)
+            self.hn = np.empty(n, dtype=np.int64)
+            self.touched = np.empty(n, dtype=np.int64)
+            self.n, self.listed = n, 0
+        elif self.listed:
+            _astar_reset(self.touched, self.listed, self.dist, self.pred, self.pos)
+            self.listed = 0
+        return self.dist, self.pred, self.pos, self.hk, self.hn, self.touched
+
+
+_WORKSPACE = _SearchWorkspace()
 
 
 def astar(
@@ -1013,20 +1052,31 @@ def astar(
     neutral_cost: float,
     cost_factor: float,
     resolution: float,
+    reuse: bool = False,
 ) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
     """Costs-to-come ``(rows·cols,)`` and predecessors (``-1``: none) of an A* search on the
     global planner's grid graph from flat ``start`` to flat ``goal`` (``-1``: every reachable
     cell, i.e. Dijkstra). Exact where settled: the goal's cost, and with ``goal = -1`` or an
     unreachable goal the set of reachable cells, are those of a full Dijkstra; among paths of
     equal cost the one chosen may differ from SciPy's (ties broken by heap key, node index).
-    Runs without the GIL."""
+    ``reuse``: the two arrays are the calling thread's kept workspace (the same values),
+    valid until that thread's next ``reuse`` search. Runs without the GIL."""
     n = costs.size
-    dist = np.full(n, np.inf)
-    pred = np.full(n, -1, dtype=np.int64)
+    dist: NDArray[np.float64]
+    pred: NDArray[np.int64]
+    if reuse:
+        ws = _WORKSPACE
+        dist, pred, pos, hk, hn, touched = ws.arrays(n)
+        ws.n = -1  # unknown state until the search returns (an interrupted one reallocates)
+    else:
+        dist = np.full(n, np.inf)
+        pred = np.full(n, -1, dtype=np.int64)
+        pos = np.full(n, -1, dtype=np.int64)
+        hk, hn, touched = np.empty(n), np.empty(n, dtype=np.int64), np.empty(n, dtype=np.int64)
     # Every move costs at least its length x neutral_cost; a hair less keeps h a lower bound
     # after rounding.
     h_scale = float(neutral_cost) * float(resolution) * (1.0 - 1e-9)
-    _astar_kernel(
+    listed = _astar_kernel(
         np.ascontiguousarray(costs, dtype=np.uint8),
         np.ascontiguousarray(passable, dtype=np.bool_),
         int(start),
@@ -1038,8 +1088,37 @@ def astar(
         h_scale,
         dist,
         pred,
+        pos,
+        hk,
+        hn,
+        touched,
     )
+    if reuse:
+        ws.n, ws.listed = n, listed
     return dist, pred
+
+
+@_jit
+def _chain_kernel(pred, start, goal):  # type: ignore[no-untyped-def]
+    m = 1
+    node = goal
+    while node != start:
+        node = pred[node]
+        m += 1
+    out = np.empty(m, dtype=np.int64)
+    node = goal
+    for i in range(m - 1, -1, -1):
+        out[i] = node
+        if i:
+            node = pred[node]
+    return out
+
+
+def predecessor_chain(pred: NDArray[np.int64], start: int, goal: int) -> NDArray[np.int64]:
+    """The flat nodes ``(P,)`` from ``start`` to ``goal`` along ``pred`` (a search tree rooted
+    at ``start`` that reaches ``goal``)."""
+    out: NDArray[np.int64] = _chain_kernel(pred, int(start), int(goal))
+    return out
 
 
 # ---- personal-space (proxemic) layer ---------------------------------------------------------
@@ -1051,9 +1130,10 @@ def _proxemic_exponents(  # type: ignore[no-untyped-def]
 ):
     """Windows ``first..last-1`` (rows ``(r0, r1, c0, c1, x, y, cos, sin, var_front,
     one_sided)``): the exponent ``-(mx² / 2σx² + my² / 2σ²)`` of each cell, with the
-    reference's operations, for the cells of the window whose centre lies in the ellipse
-    ``semi[k] = (along, across)`` (m, the cutoff's reach, a hair enlarged: it contains the
-    whole lobe), one row interval at a time; cells at or above ``threshold`` go to
+    reference's operations, for the cells of the window whose centre lies ahead in the
+    ellipse ``semi[k] = (along, across)`` or behind in the disc of radius ``across`` (m, the
+    cutoff's reach, a hair enlarged: together they contain the whole lobe), one row interval
+    at a time; cells at or above ``threshold`` go to
     ``flat``/``expo``. Returns their count."""
     m = 0
     for k in range(first, last):
@@ -1065,16 +1145,30 @@ def _proxemic_exponents(  # type: ignore[no-untyped-def]
         ia = 1.0 / (semi[k, 0] * semi[k, 0])
         ib = 1.0 / (semi[k, 1] * semi[k, 1])
         qa = c * c * ia + s * s * ib  # dx² coefficient of (mx/a)² + (my/b)² (> 0)
+        b2 = semi[k, 1] * semi[k, 1]
         for r in range(r0, r1):
             dy = oy + (r + 0.5) * res - y
+            # Behind the person (mx <= 0) the lobe is the disc of radius ``across``; ahead,
+            # the half of the ellipse with mx >= 0: the hull of the two row intervals.
+            lo, hi = np.inf, -np.inf
             qb = 2.0 * dy * c * s * (ia - ib)
             qc = dy * dy * (s * s * ia + c * c * ib) - 1.0
             disc = qb * qb - 4.0 * qa * qc
-            if disc < 0.0:
+            if disc >= 0.0:
+                root = np.sqrt(disc)
+                lo = (-qb - root) / (2.0 * qa)
+                hi = (-qb + root) / (2.0 * qa)
+                if c > 1e-9:  # mx = dx c + dy s >= 0
+                    lo = max(lo, -dy * s / c)
+                elif c < -1e-9:
+                    hi = min(hi, -dy * s / c)
+                if lo > hi:
+                    lo, hi = np.inf, -np.inf
+            if dy * dy <= b2:
+                w = np.sqrt(b2 - dy * dy)
+                lo, hi = min(lo, -w), max(hi, w)
+            if lo > hi:
                 continue
-            root = np.sqrt(disc)
-            lo = (-qb - root) / (2.0 * qa)
-            hi = (-qb + root) / (2.0 * qa)
             q0 = max(int(np.floor((x + lo - ox) / res - 0.5)) - 1, c0)
             q1 = min(int(np.ceil((x + hi - ox) / res - 0.5)) + 2, c1)
             for q in range(q0, q1):
@@ -1095,10 +1189,16 @@ def _proxemic_exponents(  # type: ignore[no-untyped-def]
 
 
 @_jit
-def _scatter_max(flat, values, out):  # type: ignore[no-untyped-def]
-    for i in range(flat.shape[0]):
-        if values[i] > out[flat[i]]:
-            out[flat[i]] = values[i]
+def _scatter_cost(flat, e, m, amplitude, cutoff, out):  # type: ignore[no-untyped-def]
+    """The reference's ``a = amplitude · e``, kept where ``a >= cutoff``, as
+    ``uint8(floor(a))`` maxed into ``out`` at ``flat`` (the first ``m`` entries): the same
+    operations in one pass instead of five array passes."""
+    for i in range(m):
+        a = amplitude * e[i]
+        if a >= cutoff:
+            v = np.uint8(np.floor(a))
+            if v > out[flat[i]]:
+                out[flat[i]] = v
 
 
 _PROXEMIC_BATCH = 1 << 18  # cells per compiled pass (bounds the buffers: 4 MB)
@@ -1157,9 +1257,8 @@ def proxemic_costs(
                 geometry, positions, velocities, amplitude, variance, cutoff, velocity_factor,
                 passing,
             )  # fmt: skip
-        a = amplitude * np.exp(expo[:m])
-        keep = a >= cutoff
-        _scatter_max(flat[:m][keep], np.floor(a[keep]).astype(np.uint8), flat_out)
+        e = np.exp(expo[:m], out=expo[:m])  # NumPy's exp, the reference's
+        _scatter_cost(flat, e, m, float(amplitude), float(cutoff), flat_out)
         first = last
     return out
 
@@ -1551,13 +1650,23 @@ def warmup() -> float:
     hit_codes(costs, 253, 2, 2)
     grid_weights(costs, costs == 0, np.array([[0, 1]]), np.array([0.25]), 50.0, 3.0)
     proxemic_costs(GridGeometry((4, 4), 0.25), np.ones((1, 2)), np.ones((1, 2)), passing=True)
+    from socialnav.world.raster import rasterize
+
+    rasterize(GridGeometry((4, 4), 0.25), discs=np.array([[0.5, 0.5, 0.3]]))
     for goal in (15, -1):
-        astar(costs, costs == 0, 0, goal, np.array([[0, 1], [1, 1]]), np.ones(2), 50.0, 3.0, 0.1)
+        for reuse in (False, True):
+            astar(
+                costs, costs == 0, 0, goal, np.array([[0, 1], [1, 1]]), np.ones(2), 50.0, 3.0,
+                0.1, reuse,
+            )  # fmt: skip
+    for dtype in (np.int64, np.int32):  # ours and SciPy's predecessors
+        predecessor_chain(np.array([-1, 0], dtype=dtype), 0, 1)
     min_squared_distances(poses[:, -1:], np.zeros((1, 1, 2)), np.array([0], np.intp), out)
-    from socialnav.world.costmap import _disc_costs
+    from socialnav.world.costmap import _disc_costs, _disc_finish
 
     box = np.array([[0, 2, 0, 2]], dtype=np.int64)
     _disc_costs(costs == 0, box, 1, np.zeros(3, np.uint8), np.zeros((4, 4), np.uint8))
+    _disc_finish(costs == 0, costs, np.zeros((4, 4), np.uint8))
     from socialnav.moo.paccet import warmup as paccet_warmup
 
     paccet_warmup()

@@ -114,34 +114,79 @@ def add_obstacle_discs(
 
 
 @compiled.jit
-def _disc_costs(boundary, boxes, reach, table, raw):  # type: ignore[no-untyped-def]
+def _boundary(raster, i, j):  # type: ignore[no-untyped-def]
+    """A raster cell with a 4-neighbour outside the raster (or the grid): ``raster & ~interior``
+    of :func:`_disc_inflation`."""
+    if not raster[i, j]:
+        return False
+    rows, cols = raster.shape
+    if i == 0 or j == 0 or i == rows - 1 or j == cols - 1:
+        return True
+    return not (raster[i - 1, j] and raster[i + 1, j] and raster[i, j - 1] and raster[i, j + 1])
+
+
+@compiled.jit
+def _disc_finish(raster, costs, raw):  # type: ignore[no-untyped-def]
+    """In place: disc cells LETHAL; UNKNOWN map cells outside the discs stay UNKNOWN unless
+    inflated to INSCRIBED or more (:func:`_disc_inflation`'s last two steps)."""
+    rows, cols = raw.shape
+    for i in range(rows):
+        for j in range(cols):
+            if raster[i, j]:
+                raw[i, j] = 254
+            elif costs[i, j] == 255 and raw[i, j] < 253:
+                raw[i, j] = 255
+
+
+@compiled.jit
+def _disc_costs(raster, boxes, reach, table, raw):  # type: ignore[no-untyped-def]
     """:func:`_disc_inflation`'s per-disc loop: for each disc box ``(r0, r1, c0, c1)`` the
-    squared offset of every cell within ``reach`` to the nearest boundary cell in the box, its
-    cost from ``table``, maximum into ``raw`` (integers and maxima: identical)."""
+    squared offset of every cell within ``reach`` to the nearest boundary cell
+    (:func:`_boundary` of ``raster``) in the box, its
+    cost from ``table``, maximum into ``raw`` (integers and maxima: identical). The nearest
+    is found row by row: ``min`` over the box's rows ``i'`` of ``(i - i')²`` plus the squared
+    column offset to the nearest boundary cell of row ``i'`` (two sweeps), the same minimum
+    as over every boundary cell."""
     rows, cols = raw.shape
     last = table.size - 1
-    src_r = np.empty(boundary.size, dtype=np.int64)
-    src_c = np.empty(boundary.size, dtype=np.int64)
+    far = 1 << 40
     for d in range(boxes.shape[0]):
         r0, r1, c0, c1 = boxes[d, 0], boxes[d, 1], boxes[d, 2], boxes[d, 3]
         if c0 >= c1 or r0 >= r1:
             continue
-        m = 0
+        v0, v1 = max(c0 - reach, 0), min(c1 + reach, cols)
+        width = v1 - v0
+        near = np.full((r1 - r0, width), far, dtype=np.int64)  # column offset, squared
+        used = np.zeros(r1 - r0, dtype=np.bool_)
         for i in range(r0, r1):
-            for j in range(c0, c1):
-                if boundary[i, j]:
-                    src_r[m] = i
-                    src_c[m] = j
-                    m += 1
-        if m == 0:
+            row = near[i - r0]
+            at = -1  # last boundary column seen (left to right)
+            for j in range(v0, v1):
+                if c0 <= j < c1 and _boundary(raster, i, j):
+                    at = j
+                    used[i - r0] = True
+                if at >= 0:
+                    row[j - v0] = (j - at) * (j - at)
+            if not used[i - r0]:
+                continue
+            at = -1
+            for j in range(v1 - 1, v0 - 1, -1):
+                if c0 <= j < c1 and _boundary(raster, i, j):
+                    at = j
+                if at >= 0:
+                    q = (at - j) * (at - j)
+                    if q < row[j - v0]:
+                        row[j - v0] = q
+        if not used.any():
             continue
         for i in range(max(r0 - reach, 0), min(r1 + reach, rows)):
-            for j in range(max(c0 - reach, 0), min(c1 + reach, cols)):
+            for j in range(v0, v1):
                 best = last
-                for k in range(m):
-                    dr = i - src_r[k]
-                    dc = j - src_c[k]
-                    n = dr * dr + dc * dc
+                for k in range(r1 - r0):
+                    if not used[k]:
+                        continue
+                    dr = i - (r0 + k)
+                    n = dr * dr + near[k, j - v0]
                     if n < best:
                         best = n
                 cost = table[best]
@@ -225,9 +270,6 @@ def _disc_inflation(
         _STATIC_INFLATION[key] = entry
     raw = entry[0].copy()
     rows, cols = geo.shape
-    pad = np.pad(raster, 1, constant_values=False)
-    interior = pad[:-2, 1:-1] & pad[2:, 1:-1] & pad[1:-1, :-2] & pad[1:-1, 2:]
-    boundary = raster & ~interior
     reach = int(np.sqrt(table.size - 1))  # cells: beyond it every offset costs FREE
     res = geo.resolution
     ox, oy = geo.origin
@@ -242,8 +284,12 @@ def _disc_inflation(
             ],
             axis=1,
         ).astype(np.int64)
-        _disc_costs(boundary, boxes, reach, table, raw)
-        discs = discs[:0]
+        _disc_costs(raster, boxes, reach, table, raw)
+        _disc_finish(raster, costmap.costs, raw)  # the two last steps below, in one pass
+        return Costmap(raw, geo)
+    pad = np.pad(raster, 1, constant_values=False)
+    interior = pad[:-2, 1:-1] & pad[2:, 1:-1] & pad[1:-1, :-2] & pad[1:-1, 2:]
+    boundary = raster & ~interior
     for x, y, r in discs:
         # The cells the disc can occupy (as the rasterizer's window), then the affected ones.
         c0 = max(int(np.floor((x - r - ox) / res - 0.5)), 0)

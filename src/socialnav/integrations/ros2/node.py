@@ -42,6 +42,10 @@ Decisions:
   groups and queues are estimated from the tracked people every cycle
   (:class:`~socialnav.social.perception.ContextEstimator`, as ``--context detected`` in the
   simulator); the planner then receives the estimator's context.
+- The global replan runs off the control cycle (``replan_mode``, default ``deferred``: the
+  compiled search on a worker thread, its plan used two cycles later and planned from where
+  the robot will be then, as Nav2 separates its planner and controller servers; a new goal
+  or leaving the plan still replans inside the cycle).
 - The planner is rebuilt (``build_navigator``) on a new goal, a new map, a parameter change, when
   the number of people in view changes between 0, 1, 2 and 3 or more, and when the groups,
   queues or viewed artworks in view change (the objective set is fixed when a navigator is
@@ -310,7 +314,12 @@ class SocialNavNode(LifecycleNode):  # type: ignore[misc]
         return SetParametersResult(successful=True)
 
     # ---- state ----------------------------------------------------------------------------
+    def _close_navigator(self) -> None:
+        if getattr(self, "navigator", None) is not None:
+            self.navigator.close()
+
     def _reset_state(self) -> None:
+        self._close_navigator()
         self.costmap: Any = None
         self.goal: FloatArray | None = None
         self.navigator: Any = None
@@ -446,6 +455,7 @@ class SocialNavNode(LifecycleNode):  # type: ignore[misc]
             social = self.context_file.resolve(people)
             signature = (min(len(people), 3), *self.context_file.signature(social))
         if self._dirty or self.navigator is None or signature != self._people_signature:
+            self._close_navigator()  # its replan in flight is for the old configuration
             self.navigator = build_navigator(
                 str(self.values["planner"]),
                 self.robot,
@@ -454,6 +464,8 @@ class SocialNavNode(LifecycleNode):  # type: ignore[misc]
                 social,
                 record=True,
                 params=self.planner_params,
+                global_search="compiled",
+                replan_mode=self.values["replan_mode"],  # validated: one of the choices
             )
             self._dirty, self._people_signature = False, signature
         result = self.navigator.step(t, pose, velocity, social)

@@ -148,6 +148,13 @@ _NODE: tuple[ParamSpec, ...] = (
         'footprint polygon "[[x, y], ...]" m in the base frame, Nav2 syntax; "" = the model\'s',
     ),
     ParamSpec("controller_frequency", 10.0, "Hz, control cycles per second", 1.0, 50.0),
+    ParamSpec(
+        "replan_mode",
+        "deferred",
+        "global replanning: deferred (on a worker, used 2 cycles later, planned from where the "
+        "robot will be), threaded (used once done) or inline (inside the control cycle)",
+        choices=("deferred", "threaded", "inline"),
+    ),
     ParamSpec("global_frame", "map", "frame of the map, goals, people and plans"),
     ParamSpec("odom_frame", "odom", "frame of the odometry when it is not the global frame"),
     ParamSpec("robot_base_frame", "base_link", "the robot's body frame"),
