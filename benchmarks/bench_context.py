@@ -59,7 +59,7 @@ from pathlib import Path
 
 import numpy as np
 
-from harness import Case, run_table
+from harness import Case, machine_note, run_table
 from socialnav.core.scene import Person
 from socialnav.crowds.fformations import (
     HEADING_CONVENTIONS,
@@ -674,7 +674,7 @@ def timing_section() -> None:
 
                 base = "full, reference, every cycle"
                 cases.append(Case(group, name, step, 41, 20, baseline=base))
-    rows = run_table(cases, "Time per estimate (loaded 2-core machine)")
+    rows = run_table(cases, f"Time per estimate ({machine_note()})")
     emit("\n## Time per estimate (median of 41 cycles after 20 warm-up cycles)\n")
     emit("| crowd | tracks | variant | median | speed-up vs full, reference, every cycle |")
     emit("|---|---|---|---|---|")

@@ -21,7 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
-from harness import format_seconds
+from harness import format_seconds, machine_note
 from socialnav.planner import kernels
 from socialnav.sim.runner import run_episode
 from socialnav.sim.scenario import builtin_scenarios
@@ -103,7 +103,7 @@ def main() -> None:
         print(f"(no recordings under {CROWDS}: crowd suite skipped)")
     print(
         f"\n## Control step, {args.preset}, PR2: wall and thread-CPU percentiles over every step "
-        "(loaded 2-core machine)\n"
+        f"({machine_note()})\n"
     )
     print(
         "| suite | replan | steps | wall p50 | wall p95 | wall p99 | CPU p50 | CPU p99 | CPU max |"

@@ -122,6 +122,19 @@ def time_interleaved(
     ]
 
 
+def machine_note() -> str:
+    """``"<cores> cores, load average <1 min>"``: the conditions a table was measured in (the
+    load average is sampled when the table starts; timings drift with it)."""
+    import os
+
+    cores = os.cpu_count() or 0
+    try:
+        load = f"{os.getloadavg()[0]:.1f}"
+    except OSError:  # not available on this platform
+        load = "unknown"
+    return f"{cores} cores, load average {load}"
+
+
 def quick_option(doc: str | None) -> bool:
     """Parse ``[--quick]`` (fewer repeats) with ``--help`` printing the script's docstring."""
     parser = argparse.ArgumentParser(
