@@ -122,6 +122,18 @@ def time_interleaved(
     ]
 
 
+def development_seeds(text: str, why: str) -> range:
+    """The seeds ``A:B`` (or ``N`` for ``0:N``) of ``text``; exits naming ``why`` when any is a
+    reporting seed (tuning and diagnosis stay on the development split)."""
+    from socialnav.experiments.crowd import parse_seeds
+    from socialnav.sim.generate import REPORTING_SEED
+
+    seeds = parse_seeds(text)
+    if seeds.stop > REPORTING_SEED:
+        raise SystemExit(f"{why} runs on development seeds only (< {REPORTING_SEED})")
+    return seeds
+
+
 def machine_note() -> str:
     """``"<cores> cores, load average <1 min>"``: the conditions a table was measured in (the
     load average is sampled when the table starts; timings drift with it)."""

@@ -24,9 +24,9 @@ from collections import defaultdict
 
 import numpy as np
 
-from socialnav.experiments.crowd import parse_seeds
+from harness import development_seeds
 from socialnav.planner.presets import PRESETS
-from socialnav.sim.generate import GENERATORS, REPORTING_SEED
+from socialnav.sim.generate import GENERATORS
 
 VARIANTS = {
     "paccet_static_global": dataclasses.replace(PRESETS.get("paccet"), social_global_path=False)
@@ -83,9 +83,7 @@ def main() -> None:
     ap.add_argument("--planners", default="paccet,paccet_static_global")
     ap.add_argument("--jobs", type=int, default=1)
     args = ap.parse_args()
-    seeds = parse_seeds(args.seeds)
-    if seeds.stop > REPORTING_SEED:
-        raise SystemExit("this breakdown runs on development seeds only (< 10000)")
+    seeds = development_seeds(args.seeds, "this breakdown")
     families = [f for f in args.families.split(",") if f] or GENERATORS.names()
     planners = ["hl", *(p for p in args.planners.split(",") if p and p != "hl")]
     robots = ("pioneer", "pr2")

@@ -22,10 +22,10 @@ import multiprocessing as mp
 import statistics
 from collections import defaultdict
 
-from socialnav.experiments.crowd import parse_seeds
+from harness import development_seeds
 from socialnav.planner.local_planner import LocalPlannerParams
 from socialnav.planner.presets import PRESETS, recommended_objectives
-from socialnav.sim.generate import GENERATORS, REPORTING_SEED
+from socialnav.sim.generate import GENERATORS
 
 BASE = PRESETS.get("paccet")
 VARIANTS = {
@@ -68,9 +68,7 @@ def main() -> None:
     ap.add_argument("--variants", default=",".join(VARIANTS))
     ap.add_argument("--jobs", type=int, default=2)
     args = ap.parse_args()
-    seeds = parse_seeds(args.seeds)
-    if seeds.stop > REPORTING_SEED:
-        raise SystemExit("tuning runs on development seeds only (< 10000)")
+    seeds = development_seeds(args.seeds, "tuning")
     families = [f for f in args.families.split(",") if f] or GENERATORS.names()
     jobs = [
         (v, f, r, s)

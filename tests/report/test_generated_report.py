@@ -46,6 +46,8 @@ def test_report_numbers(tmp_path: Path):
     assert "CrowdNav test bank" in report
     # the failure, with the command that reruns it
     assert "--families queue --seeds 10003:10004 --planners paccet --robots pr2" in report
+    # into a folder of its own: in the report's folder, resuming would skip the stored run
+    assert "--robots pr2 --out rerun-queue-pr2-paccet-10003" in report
     assert "at_tail_slot" in report
 
 

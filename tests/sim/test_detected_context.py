@@ -64,6 +64,11 @@ def test_detect_command_writes_structures_and_a_picture(tmp_path: Path):
     assert table and all(r["members"] == [1, 2, 3] for r in table)
     assert abs(table[-1]["center_x"] - 12.5) < 0.3 and abs(table[-1]["center_y"] - 12.5) < 0.3
     assert (out / "context.png").stat().st_size > 10_000
+    assert summary["structure_rows"] == len(table)
+    # every column says what it holds (units, frame) in the file itself
+    schema = pq.read_schema(out / "structures.parquet")
+    assert all(b"description" in (f.metadata or {}) for f in schema)
+    assert b"m, map frame" in schema.field("center_x").metadata[b"description"]
 
 
 def test_detect_command_names_a_bad_source(tmp_path: Path):

@@ -202,16 +202,25 @@ def _detect_frames(
             rows["center_y"].append(None if center is None else float(center[1]))
     schema = pa.schema(
         [
-            ("t", pa.float64()),
-            ("kind", pa.string()),
-            ("track_id", pa.int64()),
-            ("members", pa.list_(pa.int64())),
-            ("confidence", pa.float64()),
-            ("center_x", pa.float64()),
-            ("center_y", pa.float64()),
-        ]
+            pa.field(name, kind, metadata={"description": text})
+            for name, kind, text in STRUCTURE_COLUMNS
+        ],
+        metadata={"description": "one row per structure found per estimated frame"},
     )
     return estimates, pa.table(rows, schema=schema)
+
+
+#: The columns of ``structures.parquet`` (name, Arrow type, description with unit and frame),
+#: also stored as each field's ``description`` metadata.
+STRUCTURE_COLUMNS = (
+    ("t", pa.float64(), "s, time of the frame since the start of the recording or episode"),
+    ("kind", pa.string(), "fformation, walking_group, queue or viewers"),
+    ("track_id", pa.int64(), "the structure's id, kept while it persists over frames"),
+    ("members", pa.list_(pa.int64()), "ids of the people in it (queues: head first)"),
+    ("confidence", pa.float64(), "0..1, the estimator's confidence"),
+    ("center_x", pa.float64(), "m, map frame: o-space centre or queue service point; null else"),
+    ("center_y", pa.float64(), "m, map frame: as center_x"),
+)
 
 
 def detect_file(source: str, out: Path, noise: str = "default", seed: int = 0) -> dict[str, Any]:
@@ -239,7 +248,7 @@ def detect_file(source: str, out: Path, noise: str = "default", seed: int = 0) -
     return {
         "source": source,
         "frames": len(estimates),
-        "rows": table.num_rows,
+        "structure_rows": table.num_rows,  # one per structure per frame
         "structures": {
             k: len(
                 {

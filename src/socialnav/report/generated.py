@@ -227,7 +227,9 @@ def worst_failures_section(
     body = []
     for r in failed[:WORST_FAILURES]:
         why = r.get("failed_required") or r.get("error", "")[:60]
-        body.append([family_of(r), r["robot"], r["seed"], why, _rerun_command([r], False)])
+        body.append(
+            [family_of(r), r["robot"], r["seed"], why, _rerun_command([r], False, _rerun_folder(r))]
+        )
     doc.add(Table(["family", "robot", "seed", "failed condition", "rerun"], body))
     for r in failed[:WORST_FAILURES]:
         path = fig_dir / f"fail__{r['run_id']}.png"
@@ -248,8 +250,14 @@ def worst_failures_section(
         )
 
 
-def _rerun_command(rows: Sequence[dict[str, Any]], detected: bool) -> str:
-    """The ``socialnav compare`` command that reruns ``rows`` (seeds as their covering range)."""
+def _rerun_folder(row: dict[str, Any]) -> str:
+    return f"rerun-{family_of(row)}-{row['robot']}-{row['planner']}-{row['seed']}"
+
+
+def _rerun_command(rows: Sequence[dict[str, Any]], detected: bool, out: str = "") -> str:
+    """The ``socialnav compare`` command that reruns ``rows`` (seeds as their covering range),
+    into ``out`` when given (a fresh folder: rerun in the report's own folder, ``--resume``
+    would skip the stored run)."""
     if not rows:
         return "socialnav compare --suite generated --seeds A:B"
     seeds = sorted({int(r["seed"]) for r in rows})
@@ -260,6 +268,7 @@ def _rerun_command(rows: Sequence[dict[str, Any]], detected: bool) -> str:
         f"socialnav compare --suite generated --families {families} "
         f"--seeds {seeds[0]}:{seeds[-1] + 1} --planners {planners} --robots {robots}"
         + (" --context both" if detected else "")
+        + (f" --out {out}" if out else "")
     )
 
 
