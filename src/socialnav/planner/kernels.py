@@ -759,7 +759,7 @@ def _nearest_vertex_kernel(points, vertices, out):  # type: ignore[no-untyped-de
             dx = px - vertices[v, 0]
             dy = py - vertices[v, 1]
             d = dx * dx + dy * dy
-            if d < b0 or (d == b0 and v < a0):
+            if d < b0:  # a tie keeps a0, the lower index
                 b0, a0 = d, v
         # An accumulator that never improved on inf holds a placeholder index: all-inf rows
         # (or fewer than four vertices) must still give argmin's 0.
@@ -1015,6 +1015,19 @@ def _astar_reset(touched, listed, dist, pred, pos):  # type: ignore[no-untyped-d
         pos[v] = -1
 
 
+def _search_arrays(n: int) -> tuple[Any, ...]:
+    """Fresh A* arrays for ``n`` nodes: ``dist`` inf, ``pred`` and ``pos`` -1, and the heap's
+    keys, nodes and the touched list (filled as the search goes)."""
+    return (
+        np.full(n, np.inf),
+        np.full(n, -1, dtype=np.int64),
+        np.full(n, -1, dtype=np.int64),
+        np.empty(n),
+        np.empty(n, dtype=np.int64),
+        np.empty(n, dtype=np.int64),
+    )
+
+
 class _SearchWorkspace(threading.local):
     """One set of A* arrays per thread (the replanning worker and the control thread may
     search at once), kept between searches: only the entries the last search touched are
@@ -1026,17 +1039,13 @@ class _SearchWorkspace(threading.local):
 
     def arrays(self, n: int) -> tuple[Any, ...]:
         if self.n != n:
-            self.dist = np.full(n, np.inf)
-            self.pred = np.full(n, -1, dtype=np.int64)
-            self.pos = np.full(n, -1, dtype=np.int64)
-            self.hk = np.empty(n)
-            self.hn = np.empty(n, dtype=np.int64)
-            self.touched = np.empty(n, dtype=np.int64)
+            self.kept = _search_arrays(n)
             self.n, self.listed = n, 0
         elif self.listed:
-            _astar_reset(self.touched, self.listed, self.dist, self.pred, self.pos)
+            dist, pred, pos, _, _, touched = self.kept
+            _astar_reset(touched, self.listed, dist, pred, pos)
             self.listed = 0
-        return self.dist, self.pred, self.pos, self.hk, self.hn, self.touched
+        return self.kept
 
 
 _WORKSPACE = _SearchWorkspace()
@@ -1069,10 +1078,7 @@ def astar(
         dist, pred, pos, hk, hn, touched = ws.arrays(n)
         ws.n = -1  # unknown state until the search returns (an interrupted one reallocates)
     else:
-        dist = np.full(n, np.inf)
-        pred = np.full(n, -1, dtype=np.int64)
-        pos = np.full(n, -1, dtype=np.int64)
-        hk, hn, touched = np.empty(n), np.empty(n, dtype=np.int64), np.empty(n, dtype=np.int64)
+        dist, pred, pos, hk, hn, touched = _search_arrays(n)
     # Every move costs at least its length x neutral_cost; a hair less keeps h a lower bound
     # after rounding.
     h_scale = float(neutral_cost) * float(resolution) * (1.0 - 1e-9)
@@ -1420,7 +1426,7 @@ def _arc_lengths_kernel(dense, out):  # type: ignore[no-untyped-def]
     for k in range(1, dense.shape[0]):
         dx = dense[k, 0] - dense[k - 1, 0]
         dy = dense[k, 1] - dense[k - 1, 1]
-        out[k] = out[k - 1] + np.sqrt(dx * dx + dy * dy) if k > 1 else np.sqrt(dx * dx + dy * dy)
+        out[k] = out[k - 1] + np.sqrt(dx * dx + dy * dy)  # 0.0 + x is x: cumsum's first term
 
 
 def arc_lengths(dense: NDArray[np.float64]) -> NDArray[np.float64]:
