@@ -84,3 +84,50 @@ def evasion_gaps(
     d = np.linalg.norm(trajs.xy[:, :, None, :] - forecast[None], axis=-1)  # (N, T, K)
     gap = d - people_radii[None, None] - robot.circumscribed_radius
     return gap.min(axis=(1, 2)) if gap.size else np.full(len(twists), np.inf), trajs
+
+
+def closest_approach(
+    position: ArrayLike, velocity: ArrayLike, people: ArrayLike, people_velocities: ArrayLike
+) -> tuple[FloatArray, FloatArray]:
+    """Closest approach of each person to the robot, both at constant world velocity:
+    ``(distance (K,), time (K,))`` (m centre to centre, s from now; time 0 when they are
+    separating). Arguments as :func:`time_to_collision`."""
+    p = np.asarray(people, dtype=float).reshape(-1, 2) - np.asarray(position, dtype=float)
+    v = np.asarray(people_velocities, dtype=float).reshape(-1, 2) - np.asarray(
+        velocity, dtype=float
+    )
+    a = (v * v).sum(axis=1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = np.where(a > 0, np.maximum(-(p * v).sum(axis=1) / a, 0.0), 0.0)
+    return np.hypot(*(p + t[:, None] * v).T), t
+
+
+def move_and_hold(trajs: Trajectories, durations: ArrayLike) -> Trajectories:
+    """Each rollout of ``trajs`` (``N`` twists over one time grid ``(T,)``) driven for each of
+    ``durations (M,)`` s and then held still at the pose it reached: ``N * M`` trajectories on
+    the same grid, duration-major (row ``m * N + n`` is twist ``n`` for ``durations[m]``).
+    A robot that steps out of a walker's lane and stops there is judged over the whole
+    encounter, not only while it keeps moving (a constant twist over a long horizon would run
+    into a wall and be discarded)."""
+    taus = np.asarray(durations, dtype=float).reshape(-1)
+    idx = np.arange(trajs.t.size)
+    poses = []
+    for tau in taus:
+        last = int(np.searchsorted(trajs.t, tau + 1e-9) - 1)
+        poses.append(trajs.poses[:, np.minimum(idx, max(last, 0))])
+    twists = np.tile(trajs.twists, (taus.size, 1))
+    return Trajectories(twists, np.concatenate(poses), trajs.t)
+
+
+def person_gap_minima(
+    trajs: Trajectories,
+    robot: RobotModel,
+    people: FloatArray,
+    people_velocities: FloatArray,
+    people_radii: FloatArray,
+) -> FloatArray:
+    """``(N, K)`` minimum over the rollout of the gap (m, robot circumscribed disc to person
+    disc) between each trajectory and each person forecast at constant velocity."""
+    forecast = people[None] + trajs.t[:, None, None] * people_velocities[None]  # (T, K, 2)
+    d = np.linalg.norm(trajs.xy[:, :, None, :] - forecast[None], axis=-1)  # (N, T, K)
+    return d.min(axis=1) - people_radii[None] - robot.circumscribed_radius

@@ -193,6 +193,15 @@ RECOMMENDED_SPOT_TOLERANCE = (0.07, 0.15)
 RECOMMENDED_PARAMS = LocalPlannerParams(stop_at_goal=True, xy_goal_tolerance=0.07)
 
 
+#: ``paccet``'s control loop: evasion also when a walker's closest approach under the chosen
+#: command falls inside the 1.2 m personal space within 4 s, and evasive moves that step out
+#: of the walkers' lanes and hold there, judged over the whole encounter
+#: (``RecoveryParams.evasion_personal_distance``, ``evasion_hold_step``).
+RECOMMENDED_RECOVERY = RecoveryParams(
+    evasion_personal_distance=1.2, evasion_personal_time=6.0, evasion_hold_step=1.0
+)
+
+
 def paper_selection(weights: list[float]) -> SelectionStrategy:
     """PaCcET with the reference code's weights and bisections."""
     return PaccetSelection(Weighted(weights), PaccetOptions.reference())
@@ -278,6 +287,7 @@ PRESETS.add(
         params=RECOMMENDED_PARAMS,
         spot_tolerance=RECOMMENDED_SPOT_TOLERANCE,
         order=80,
+        recovery=RECOMMENDED_RECOVERY,
     ),
 )
 
