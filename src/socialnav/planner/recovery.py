@@ -18,7 +18,19 @@ Behaviour (parameters in :class:`RecoveryParams`, ROS/Nav2 names, budgets in sec
   ``evasion_ttc`` s and
   the person walks faster than ``evasion_min_person_speed``, the robot takes the evasive twist
   of :mod:`socialnav.planner.evasion` that keeps the largest gap over ``evasion_horizon`` s —
-  when it keeps a larger gap than the planner's own command.
+  when it keeps a larger gap than the planner's own command. Two additions (off by default:
+  the ROS stack has neither; the ``paccet`` preset turns both on):
+  (1) the same evasion when a walker's closest approach under the chosen command (both at
+  constant velocity) comes within ``evasion_personal_distance`` m (the 1.2 m personal space)
+  inside ``evasion_personal_time`` s;
+  (2) *giving way* (``evasion_hold_step`` > 0): each evasive twist is also tried driven for
+  1, 2, … ``evasion_hold_step`` s and then held still, over the encounter (until the
+  triggering walkers pass the robot standing still, ``evasion_horizon`` to
+  ``evasion_max_horizon`` s), against everyone in view (bystanders too). The gap to each
+  person saturates at the personal distance, so every move that keeps everyone clear ties
+  and the one ending nearest the goal wins — the planner's own command when it is clear,
+  which ends the evasion. A robot thus leaves a walker's lane and waits beside it, instead of
+  backing up in it or stepping aside only as far as 3 s of constant twist show.
 - **Waiting** (status ``WAITING``, zero command; the navigator decelerates it within the
   acceleration limits and replans): when no trajectory is legal, or the legal ones make no
   progress, and a person blocks: within ``person_blocking_distance`` m (footprint circle to
