@@ -1088,9 +1088,10 @@ def astar(
     """Costs-to-come ``(rows·cols,)`` and predecessors (``-1``: none) of an A* search on the
     global planner's grid graph from flat ``start`` to flat ``goal`` (``-1``: every reachable
     cell, i.e. Dijkstra): the 8 neighbours in the order of :data:`ASTAR_OFFSETS`
-    ``(d_row, d_col)``, whose move lengths are ``steps (8,)`` (m). Exact where settled: the goal's cost, and with ``goal = -1`` or an
-    unreachable goal the set of reachable cells, are those of a full Dijkstra; among paths of
-    equal cost the one chosen may differ from SciPy's (ties broken by heap key, node index).
+    ``(d_row, d_col)``, whose move lengths are ``steps (8,)`` (m; else ``ValueError``).
+    Exact where settled: the goal's cost, and with ``goal = -1`` or an unreachable goal the
+    set of reachable cells, are those of a full Dijkstra; among paths of equal cost the one
+    chosen may differ from SciPy's (ties broken by heap key, node index).
     ``reuse``: the two arrays are the calling thread's kept workspace (the same values),
     valid until that thread's next ``reuse`` search. Runs without the GIL."""
     steps = np.ascontiguousarray(steps, dtype=np.float64)
