@@ -8,7 +8,12 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from socialnav.core.robot import PR2
-from socialnav.planner.evasion import closest_approach, move_and_hold, person_gap_minima
+from socialnav.planner.evasion import (
+    closest_approach,
+    evasion_twists,
+    move_and_hold,
+    person_gap_minima,
+)
 from socialnav.planner.rollout import RolloutParams, rollout
 
 
@@ -59,3 +64,14 @@ def test_a_move_that_clears_a_walkers_lane_and_holds_keeps_the_larger_gap():
     )
     assert gaps[1, 0] == pytest.approx(0.9 - 0.25 - PR2.circumscribed_radius, abs=1e-6)
     assert gaps[0, 0] < 0 and gaps[2, 0] < 0
+
+
+def test_holonomic_evasion_can_turn_while_driving_at_full_speed():
+    # Sideways the PR2 makes 0.3 m/s; an arc at 0.55 m/s gains more lateral distance in 2 s.
+    assert not (evasion_twists(PR2)[:, 2] != 0).any()  # the ROS-like default: translations
+    twists = evasion_twists(PR2, arcs=True)
+    arcs = twists[(twists[:, 0] == PR2.max_vel_x) & (twists[:, 2] != 0.0)]
+    assert len(arcs) >= 2 and (arcs[:, 2] > 0).any() and (arcs[:, 2] < 0).any()
+    base = rollout(np.zeros(3), np.zeros(3), twists, PR2, RolloutParams(2.0, 0.05, 0.1))
+    lateral = np.abs(base.end_poses[:, 1])
+    assert lateral.max() > 0.3 * 2.0 + 0.1

@@ -3,10 +3,12 @@
 When a person approaches on a collision course (time to collision below a threshold) and the
 local planner has nothing that keeps clear, the robot steps out of the way instead of standing
 still: the candidate twists are the robot's own — sideways and diagonal translations for a
-holonomic base, turn-and-go arcs for a differential drive — rolled out for ``horizon`` s with
-people forecast at constant velocity, and the one keeping the largest minimum gap wins
-(ties: the larger progress along the way to the goal). Candidates whose footprint meets a
-static obstacle (the occupancy critic on the local costmap, people excluded) are discarded.
+holonomic base (and forward arcs when giving way), turn-and-go arcs for a differential
+drive — rolled out for ``horizon`` s with people forecast at constant velocity, and the one
+keeping the largest minimum gap wins (ties: the larger progress along the way to the goal).
+Candidates whose footprint meets a static obstacle (the occupancy critic on the local
+costmap, people excluded) are discarded. Giving way (:func:`move_and_hold`) also tries each
+twist driven for a while and then held still, judged over the whole encounter.
 Reference: constant-velocity time to collision as in velocity-obstacle methods (Fiorini and
 Shiller 1998; van den Berg et al. ORCA, 2011).
 """
@@ -50,8 +52,13 @@ def time_to_collision(
     return np.where(c <= 0, 0.0, np.maximum(ttc, 0.0))
 
 
-def evasion_twists(robot: RobotModel, speeds: int = 2, directions: int = 16) -> FloatArray:
-    """Candidate body twists ``(N, 3)``: holonomic translations in ``directions`` directions,
+def evasion_twists(
+    robot: RobotModel, speeds: int = 2, directions: int = 16, arcs: bool = False
+) -> FloatArray:
+    """Candidate body twists ``(N, 3)``: holonomic translations in ``directions`` directions
+    and, with ``arcs``, full-speed forward arcs (turning while driving outruns a 0.3 m/s
+    sidestep: recorded
+    crowds, PR2, dev seeds 0–29, passive-contact episodes 23 → 19 of 60 with giving way on),
     or differential-drive arcs (forward, reverse and in-place turns), all within the limits."""
     if robot.holonomic:
         ang = np.arange(directions) * (2 * np.pi / directions)
@@ -60,6 +67,9 @@ def evasion_twists(robot: RobotModel, speeds: int = 2, directions: int = 16) -> 
             vx = np.clip(f * robot.max_vel_x * np.cos(ang), robot.min_vel_x, robot.max_vel_x)
             vy = f * robot.max_vel_y * np.sin(ang)
             out.append(np.column_stack([vx, vy, np.zeros_like(vx)]))
+        if arcs:
+            w = np.linspace(-robot.max_vel_theta, robot.max_vel_theta, 9)
+            out.append(np.column_stack([np.full_like(w, robot.max_vel_x), np.zeros_like(w), w]))
         return np.concatenate(out)
     w = np.linspace(-robot.max_vel_theta, robot.max_vel_theta, 9)
     vs = [robot.max_vel_x, 0.5 * robot.max_vel_x, robot.min_vel_x]

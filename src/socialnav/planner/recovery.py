@@ -347,7 +347,7 @@ class RecoveringPlanner:
         horizon = float(
             np.clip(t_pass.max() + p.evasion_hold_step, p.evasion_horizon, p.evasion_max_horizon)
         )
-        twists = np.concatenate([result.cmd[None], np.zeros((1, 3)), evasion_twists(r)])
+        twists = np.concatenate([result.cmd[None], np.zeros((1, 3)), evasion_twists(r, arcs=True)])
         base = rollout(ctx.pose, np.zeros(3), twists, r, RolloutParams(horizon, 0.05, 0.1))
         taus = np.append(np.arange(p.evasion_hold_step, horizon, p.evasion_hold_step), horizon)
         trajs = move_and_hold(base, taus)
