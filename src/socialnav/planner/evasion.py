@@ -73,9 +73,9 @@ def evasion_twists(
         return np.concatenate(out)
     w = np.linspace(-robot.max_vel_theta, robot.max_vel_theta, 9)
     vs = [robot.max_vel_x, 0.5 * robot.max_vel_x, robot.min_vel_x]
-    arcs = [np.column_stack([np.full_like(w, v), np.zeros_like(w), w]) for v in vs]
+    drive = [np.column_stack([np.full_like(w, v), np.zeros_like(w), w]) for v in vs]
     spin = np.array([[0.0, 0.0, robot.max_vel_theta], [0.0, 0.0, -robot.max_vel_theta]])
-    return np.concatenate([*arcs, spin])
+    return np.concatenate([*drive, spin])
 
 
 def evasion_gaps(
