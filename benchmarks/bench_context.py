@@ -366,6 +366,9 @@ def fformation_section(fit: bool, bound: bool = False) -> None:
                 scores = f"{s.precision:.3f} | {s.recall:.3f} | {s.f1:.3f}"
                 on = "on" if hysteresis else "off"
                 emit(f"| {name} | {dt:g} s | {on} | {variant} | {label} | {scores} |")
+    cb_step = steps["CoffeeBreak_Seq1"]
+    open_fit = next((p for v, p in coarse.get(cb_step, {}).items() if "open grid" in v), None)
+    spacing_section(frames, open_fit)
     circle_section()
     suite_group_section()
 
@@ -442,6 +445,137 @@ def detect_sequence(
         found = e.structures if hysteresis else e.candidates
         out.append([list(s.members) for s in found if s.kind == "fformation"])
     return out
+
+
+def raw_tracks(frames, dt: float, scene: int | None) -> list[list[Person]]:
+    """The people of every frame as a raw tracker reports them at a frame spacing ``dt`` (s):
+    the file's positions and headings, velocities the finite differences of an id's
+    consecutive positions over ``dt`` (zero on its first frame, after a gap, and at a new
+    scene of ``scene`` frames)."""
+    out, last = [], {}
+    for i, (rows, _) in enumerate(frames):
+        if scene and i % scene == 0:
+            last = {}
+        here = {}
+        people = []
+        for r in rows:
+            pid, xy = int(r[0]), np.array(r[1:3], dtype=float)
+            prev = last.get(pid)
+            v = (0.0, 0.0) if prev is None else tuple((xy - prev) / dt)
+            people.append(Person(pid, (float(xy[0]), float(xy[1])), v, float(r[3])))
+            here[pid] = xy
+        out.append(people)
+        last = here
+    return out
+
+
+def detect_online(
+    frames,
+    dt: float,
+    scene: int | None,
+    hysteresis: bool,
+    fformation: dict | None,
+    velocity_source: str,
+    listed_only: bool,
+) -> list[list[list[int]]]:
+    """F-formations of every frame from :func:`raw_tracks` at spacing ``dt`` through the
+    estimator online (pipeline reduced to the F-formation detector, reset every ``scene``
+    frames), with ``velocity_source`` (``measured``: the finite differences are taken as the
+    tracker's velocities; ``positions``: the estimator's own least-squares test). With
+    ``listed_only`` a detected group keeps only the people the frame lists (people coasted
+    over a missed detection are dropped before scoring: the annotations cover the listed
+    people only, and how many frames a 0.6 s coast spans depends on ``dt``)."""
+    hyst = HysteresisParams() if hysteresis else HysteresisParams(0.0, on=0.0, off=0.0)
+    params = EstimatorParams(
+        pipeline=("fformation",),
+        hysteresis=hyst,
+        detector_params={"fformation": fformation or {}},
+        velocity_source=velocity_source,  # type: ignore[arg-type]
+    )
+    est = ContextEstimator(params=params)
+    out = []
+    for i, people in enumerate(raw_tracks(frames, dt, scene)):
+        if scene and i % scene == 0:
+            est.reset()
+        e = est.update(i * dt, people)
+        listed = {p.id for p in people}
+        found = e.structures if hysteresis else e.candidates
+        groups = [
+            [m for m in s.members if not listed_only or m in listed]
+            for s in found
+            if s.kind == "fformation"
+        ]
+        out.append([g for g in groups if len(g) > 1])
+    return out
+
+
+SPACINGS = (0.1, 0.4, 1.0, 2.0)  # s: the files do not say; the result must not depend on it
+
+
+def spacing_section(frames, coarse_params: FFormationParams | None) -> None:
+    """The sequence protocol, fixed before CoffeeBreak was run with it: raw tracks
+    (:func:`raw_tracks`) at every spacing of :data:`SPACINGS`; the estimator online with its
+    standing test from the position history (``velocity_source="positions"``, its a-priori
+    defaults: 1 s window, at least 3 samples, 0.05 m jitter floor, z = 2); F-formation
+    parameters the defaults, or, for CoffeeBreak's 90° headings, the open-grid set fitted once
+    on Synth with its headings quantised to the detected step (single frames, mean F1 of
+    T = 2/3 and T = 1); scored on the people each frame lists (and, for comparison, with
+    coasted people kept). The ``measured`` rows take the finite differences as velocities:
+    what the standing test did before."""
+    emit(
+        "\n## F-formations over the sequence at any frame spacing (raw tracks: velocities "
+        "are finite differences)\n"
+    )
+    emit(
+        "The files number their frames and do not give the time between them, so the table "
+        "covers Δt = " + ", ".join(f"{d:g}" for d in SPACINGS) + " s. T = 2/3 unless said; "
+        "'listed' scores the people the frame lists, 'all' keeps people coasted over a missed "
+        "detection (0.6 s: only Δt ≤ 0.6 s coasts)."
+    )
+    emit("")
+    head = " | ".join(f"Δt {d:g} s" for d in SPACINGS)
+    emit(f"| data | F-formation parameters | standing test | hysteresis | scored | {head} |")
+    emit("|---|---|---|---|---|" + "---|" * len(SPACINGS))
+    rows = [("Synth", "defaults", None)]
+    if coarse_params is not None:
+        rows.append(("Synth", "fitted on Synth quantised to 90°", asdict(coarse_params)))
+        rows.append(("CoffeeBreak_Seq1", "fitted on Synth quantised to 90°", asdict(coarse_params)))
+    rows.append(("CoffeeBreak_Seq1", "defaults", None))
+    for name, variant, overrides in rows:
+        fr, truth = frames[name], [t for _, t in frames[name]]
+        scene = SYNTH_SCENE if name == "Synth" else None
+        for source, hysteresis, listed in (
+            ("measured", False, True),
+            ("positions", False, True),
+            ("positions", True, True),
+            ("positions", False, False),
+        ):
+            cells = []
+            for dt in SPACINGS:
+                det = detect_online(fr, dt, scene, hysteresis, overrides, source, listed)
+                s = group_detection_scores(det, truth, 2 / 3)
+                cells.append(f"{s.precision:.3f} / {s.recall:.3f} / **{s.f1:.3f}**")
+            test = "finite differences (before)" if source == "measured" else "least squares"
+            emit(
+                f"| {name} | {variant} | {test} | {'on' if hysteresis else 'off'} | "
+                f"{'listed' if listed else 'all'} | {' | '.join(cells)} |"
+            )
+    emit("\nCells: precision / recall / **F1** at T = 2/3.")
+
+
+def spacing_only() -> None:
+    """``--only spacing``: the fit of the protocol (once, on Synth quantised to CoffeeBreak's
+    detected heading step) and :func:`spacing_section`, without the other F-formation rows."""
+    sets = {n: DATA / "fformations" / n for n in ("Synth", "CoffeeBreak_Seq1")}
+    if not all(p.exists() for p in sets.values()):
+        emit("F-formation data not found: skipped")
+        return
+    frames = {n: load_fformations(p) for n, p in sets.items()}
+    step = heading_step(np.concatenate([rows[:, 3] for rows, _ in frames["CoffeeBreak_Seq1"]]))
+    label = f"Synth quantised to {np.degrees(step):g}°"
+    q = quantise_headings(frames["Synth"], step)
+    fitted = fit_on_synth(q, (1, 2, 3, 4), max(30.0, np.degrees(step) / 2), label + " (open grid)")
+    spacing_section(frames, fitted)
 
 
 def jittered_circles(seed: int = 0) -> list[tuple[int, float, np.ndarray, np.ndarray]]:
@@ -707,13 +841,15 @@ def main() -> None:
     parser.add_argument("--queue-scenes", type=int, default=200)
     parser.add_argument(
         "--only",
-        choices=("fformations", "queues", "walking", "time"),
+        choices=("fformations", "spacing", "queues", "walking", "time"),
         help="one section (fformations: F-formation precision, recall and F1 at match "
         "threshold T; see the module docstring)",
     )
     args = parser.parse_args()
     if args.only in (None, "fformations"):
         fformation_section(args.fit, args.bound)
+    if args.only == "spacing":
+        spacing_only()
     if args.only in (None, "queues"):
         queue_section(args.queue_scenes)
     if args.only in (None, "walking"):
