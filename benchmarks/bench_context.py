@@ -34,6 +34,24 @@ are skipped). Prints Markdown tables and writes them to ``benchmarks/out/context
    circles: 105 jittered circles (2–6 members, radius 0.6–1.5 m, σ 0.05 m, 10°, spacing
    jitter σ 0.15 rad; seed 0), found whole with GCFF's fixed stride and with the wide-circle
    merge (``FFormationParams.max_stride``, ``merge_facing``).
+
+   **The sequence at any frame spacing** (``--only spacing``; also part of the F-formation
+   section). The protocol, fixed and committed before its CoffeeBreak result was run:
+   (a) F-formation parameters from :func:`protocol_fit`: the best of a 1152-point grid
+   (:func:`protocol_grid`) on Synth's single frames with its headings quantised to the
+   heading step detected in CoffeeBreak's features (90°), objective the mean of F1 at
+   T = 2/3 and T = 1, fitted once; (b) the files' frames as a raw tracker reports them
+   (:func:`raw_tracks`: velocities are finite differences over Δt, no standing is assumed);
+   (c) the estimator online with ``velocity_source="positions"`` (its standing test from
+   the position history, :func:`socialnav.social.perception.estimator.history_velocity`,
+   with its a-priori values), hysteresis off; (d) scored on the people each frame lists
+   (a person coasted over a missed detection is dropped from a detected group before
+   scoring: the annotations cover listed people only); (e) Δt = 0.1, 0.4, 1 and 2 s, since
+   the files do not give it. Also shown: the same with the differenced velocities taken as
+   the tracks' own (the standing test before), hysteresis on, coasted people kept, the
+   earlier open-grid fit (whose grid was widened after a CoffeeBreak result), and a table of
+   how the result moves when each value of the standing test is changed alone (reported,
+   not used to choose).
 2. Queues: 400 generated scenes (seeds 1014/1015; the parameters were tuned on 14/15), 2–8
    members, spacing 0.6–1.1 m, lateral bends up to 0.4 m, any orientation, position noise
    σ 0.1 m, heading noise σ 15°, with and without a desk (a service point from the map); a
