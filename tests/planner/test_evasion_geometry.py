@@ -75,3 +75,42 @@ def test_holonomic_evasion_can_turn_while_driving_at_full_speed():
     base = rollout(np.zeros(3), np.zeros(3), twists, PR2, RolloutParams(2.0, 0.05, 0.1))
     lateral = np.abs(base.end_poses[:, 1])
     assert lateral.max() > 0.3 * 2.0 + 0.1
+
+
+@given(
+    seed=st.integers(0, 2**31 - 1),
+    n_twists=st.integers(1, 12),
+    n_people=st.integers(0, 6),
+    holds=st.lists(st.floats(0.0, 4.0), min_size=1, max_size=4),
+)
+def test_person_gap_minima_compiled_equals_numpy(
+    seed: int, n_twists: int, n_people: int, holds: list[float]
+) -> None:
+    """The compiled minimum (root of the minimum squared distance) gives NumPy's values bit
+    for bit on move-then-hold rollouts among random walkers."""
+    from socialnav.planner import kernels
+
+    if not kernels.enabled():
+        pytest.skip("reference path selected")
+    rng = np.random.default_rng(seed)
+    twists = np.column_stack(
+        [
+            rng.uniform(-0.2, 0.5, n_twists),
+            rng.uniform(-0.3, 0.3, n_twists),
+            rng.uniform(-1, 1, n_twists),
+        ]
+    )
+    base = rollout(rng.uniform(-1, 1, 3), np.zeros(3), twists, PR2, RolloutParams(4.0, 0.05, 0.1))
+    trajs = move_and_hold(base, holds)
+    people = rng.uniform(-4.0, 4.0, (n_people, 2))
+    velocities = rng.uniform(-1.5, 1.5, (n_people, 2))
+    radii = rng.uniform(0.2, 0.3, n_people)
+    out = {}
+    for flag in (False, True):
+        previous = kernels.set_enabled(flag)
+        try:
+            out[flag] = person_gap_minima(trajs, PR2, people, velocities, radii)
+        finally:
+            kernels.set_enabled(previous)
+    assert out[True].shape == (len(twists) * len(holds), n_people)
+    assert np.array_equal(out[False], out[True])

@@ -21,6 +21,7 @@ from numpy.typing import ArrayLike
 from socialnav.core.geometry import FloatArray
 from socialnav.core.robot import RobotModel
 from socialnav.core.trajectories import Trajectories
+from socialnav.planner import kernels
 from socialnav.planner.rollout import RolloutParams, rollout
 
 
@@ -90,10 +91,8 @@ def evasion_gaps(
     """Minimum gap (m, robot circumscribed disc to person disc) over ``horizon`` s for each of
     ``twists (N, 3)``, people at constant velocity; also the rollouts."""
     trajs = rollout(pose, np.zeros(3), twists, robot, RolloutParams(sim_time=horizon))
-    forecast = people[None] + trajs.t[:, None, None] * people_velocities[None]  # (T, K, 2)
-    d = np.linalg.norm(trajs.xy[:, :, None, :] - forecast[None], axis=-1)  # (N, T, K)
-    gap = d - people_radii[None, None] - robot.circumscribed_radius
-    return gap.min(axis=(1, 2)) if gap.size else np.full(len(twists), np.inf), trajs
+    gap = person_gap_minima(trajs, robot, people, people_velocities, people_radii)
+    return gap.min(axis=1) if gap.size else np.full(len(twists), np.inf), trajs
 
 
 def closest_approach(
@@ -129,6 +128,19 @@ def move_and_hold(trajs: Trajectories, durations: ArrayLike) -> Trajectories:
     return Trajectories(twists, np.concatenate(poses), trajs.t)
 
 
+def squared_distance_minima(trajs: Trajectories, forecast: FloatArray) -> FloatArray:
+    """``(N, K)`` minimum over time of the squared distance (m²) between each trajectory and
+    each person's ``forecast (T, K, 2)`` on the trajectories' time grid. With the compiled
+    kernels, the same values without the ``(N, T, K)`` temporaries (giving way judges
+    hundreds of long rollouts)."""
+    if kernels.enabled():
+        out = np.empty((trajs.poses.shape[0], forecast.shape[1]))
+        kernels.min_squared_distances(trajs.poses, forecast, np.arange(forecast.shape[1]), out)
+        return out
+    d2: FloatArray = ((trajs.xy[:, :, None, :] - forecast[None]) ** 2).sum(axis=-1).min(axis=1)
+    return d2
+
+
 def person_gap_minima(
     trajs: Trajectories,
     robot: RobotModel,
@@ -139,5 +151,5 @@ def person_gap_minima(
     """``(N, K)`` minimum over the rollout of the gap (m, robot circumscribed disc to person
     disc) between each trajectory and each person forecast at constant velocity."""
     forecast = people[None] + trajs.t[:, None, None] * people_velocities[None]  # (T, K, 2)
-    d = np.linalg.norm(trajs.xy[:, :, None, :] - forecast[None], axis=-1)  # (N, T, K)
-    return d.min(axis=1) - people_radii[None] - robot.circumscribed_radius
+    d = np.sqrt(squared_distance_minima(trajs, forecast))
+    return d - people_radii[None] - robot.circumscribed_radius

@@ -69,6 +69,7 @@ from socialnav.planner.evasion import (
     evasion_twists,
     move_and_hold,
     person_gap_minima,
+    squared_distance_minima,
     time_to_collision,
 )
 from socialnav.planner.limits import CycleClock
@@ -379,7 +380,7 @@ class RecoveringPlanner:
         trajs = Trajectories(trajs.twists, trajs.poses[:, keep], trajs.t[keep])
         contact = ctx.social.radii() + self.robot.circumscribed_radius
         forecast = ctx.people_at(trajs.t)  # (T, K, 2)
-        d2 = ((trajs.xy[:, :, None, :] - forecast[None]) ** 2).sum(axis=-1).min(axis=1)
+        d2 = squared_distance_minima(trajs, forecast)
         return approaches(trajs, ctx, d2, contact, APPROACH_SPEED)
 
     def _static_ok(self, ctx: PlanningContext, trajs: Trajectories) -> np.ndarray:
