@@ -393,8 +393,9 @@ def fformation_section(fit: bool, bound: bool = False) -> None:
                 emit(f"| {name} | {dt:g} s | {on} | {variant} | {label} | {scores} |")
     cb_step = steps["CoffeeBreak_Seq1"]
     open_fit = next((p for v, p in coarse.get(cb_step, {}).items() if "open grid" in v), None)
-    spacing_section(frames, open_fit, protocol_fit(frames["Synth"], cb_step))
-    dominant_sets_section(frames)
+    gcff_protocol = protocol_fit(frames["Synth"], cb_step)
+    spacing_section(frames, open_fit, gcff_protocol)
+    dominant_sets_section(frames, gcff_protocol)
     circle_section()
     suite_group_section()
 
@@ -757,11 +758,12 @@ def dominant_sets_fit(synth, step: float) -> tuple[DominantSetsParams, float]:
     return grid[best], scores[best]
 
 
-def dominant_sets_section(frames) -> None:
+def dominant_sets_section(frames, gcff_protocol: FFormationParams | None = None) -> None:
     """F-formations as dominant sets (:mod:`socialnav.social.perception.dominant_sets`):
     the protocol fit (:func:`dominant_sets_fit`, on Synth quantised to CoffeeBreak's detected
     heading step) scored on Synth, Synth quantised, and CoffeeBreak (held out, run once with
-    the fitted set), single frames."""
+    the fitted set), single frames; with ``gcff_protocol`` (GCFF's :func:`protocol_fit`, the
+    same protocol) GCFF's rows beside them."""
     cb = frames["CoffeeBreak_Seq1"]
     step = heading_step(np.concatenate([rows[:, 3] for rows, _ in cb]))
     p, objective = dominant_sets_fit(frames["Synth"], step)
@@ -783,11 +785,14 @@ def dominant_sets_section(frames) -> None:
     }
     for name, fr in data.items():
         truth = [t for _, t in fr]
-        det = detect_frames_ds(fr, p)
-        for label, t in (("2/3", 2 / 3), ("1", 1.0)):
-            s = group_detection_scores(det, truth, t)
-            scores = f"{s.precision:.3f} | {s.recall:.3f} | {s.f1:.3f}"
-            emit(f"| {name} | protocol fit | {s.frames} | {label} | {scores} |")
+        runs = [("dominant sets, protocol fit", detect_frames_ds(fr, p))]
+        if gcff_protocol is not None:
+            runs.append(("GCFF, its protocol fit", detect_frames(fr, gcff_protocol)))
+        for variant, det in runs:
+            for label, t in (("2/3", 2 / 3), ("1", 1.0)):
+                s = group_detection_scores(det, truth, t)
+                scores = f"{s.precision:.3f} | {s.recall:.3f} | {s.f1:.3f}"
+                emit(f"| {name} | {variant} | {s.frames} | {label} | {scores} |")
 
 
 def dominant_sets_only() -> None:
