@@ -52,6 +52,12 @@ are skipped). Prints Markdown tables and writes them to ``benchmarks/out/context
    earlier open-grid fit (whose grid was widened after a CoffeeBreak result), and a table of
    how the result moves when each value of the standing test is changed alone (reported,
    not used to choose).
+   **Dominant sets** (``--only dominant_sets``; also part of the F-formation section): the
+   second F-formation detector (:mod:`socialnav.social.perception.dominant_sets`, Hung &
+   Kröse 2011). Its protocol, fixed and committed before its CoffeeBreak result was run:
+   the best of :func:`dominant_sets_grid` (875 sets) on Synth's single frames with headings
+   quantised to the step detected in CoffeeBreak's features (90°), objective the mean of F1
+   at T = 2/3 and T = 1 (first in grid order on ties); CoffeeBreak then scored once with it.
 2. Queues: 400 generated scenes (seeds 1014/1015; the parameters were tuned on 14/15), 2–8
    members, spacing 0.6–1.1 m, lateral bends up to 0.4 m, any orientation, position noise
    σ 0.1 m, heading noise σ 15°, with and without a desk (a service point from the map); a
@@ -89,6 +95,7 @@ from socialnav.crowds.fformations import (
 from socialnav.metrics.groups import PairCounts, group_detection_scores, pairwise_scores
 from socialnav.sim.perception import PerceptionNoise
 from socialnav.social.perception import ContextEstimator, EstimatorParams, MapKnowledge, gcff_kernel
+from socialnav.social.perception.dominant_sets import DominantSetsParams, dominant_sets
 from socialnav.social.perception.estimator import estimate_once
 from socialnav.social.perception.fformations import FFormationParams, facility_location, gcff
 from socialnav.social.perception.tracking import HysteresisParams
@@ -386,7 +393,9 @@ def fformation_section(fit: bool, bound: bool = False) -> None:
                 emit(f"| {name} | {dt:g} s | {on} | {variant} | {label} | {scores} |")
     cb_step = steps["CoffeeBreak_Seq1"]
     open_fit = next((p for v, p in coarse.get(cb_step, {}).items() if "open grid" in v), None)
-    spacing_section(frames, open_fit, protocol_fit(frames["Synth"], cb_step))
+    gcff_protocol = protocol_fit(frames["Synth"], cb_step)
+    spacing_section(frames, open_fit, gcff_protocol)
+    dominant_sets_section(frames, gcff_protocol)
     circle_section()
     suite_group_section()
 
@@ -695,6 +704,106 @@ def spacing_only() -> None:
     spacing_section(frames, fitted, protocol_fit(frames["Synth"], step))
 
 
+# --- 1b. F-formations as dominant sets ---------------------------------------------------------
+
+
+def dominant_sets_grid() -> list[DominantSetsParams]:
+    """The dominant-sets fit protocol's grid, fixed and committed before its CoffeeBreak result
+    was run: proximity scale σ_d 0.4–1.2 m (conversational distances, Hall's personal to
+    social zone), heading reliability ρ 0–1 in quarters, stride D 0.4, 0.6, 0.8 m and vote
+    scale σ_o 0.3, 0.6 m (ignored, so taken once, at ρ = 0), minimum cohesion 0.1–0.7. Other
+    parameters are the a-priori defaults of :class:`DominantSetsParams`."""
+    out = []
+    for sd, rho, stride, sv, c in itertools.product(
+        (0.4, 0.6, 0.8, 1.0, 1.2),
+        (0.0, 0.25, 0.5, 0.75, 1.0),
+        (0.4, 0.6, 0.8),
+        (0.3, 0.6),
+        (0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7),
+    ):
+        if rho == 0.0 and (stride, sv) != (0.4, 0.3):
+            continue  # the heading term is off: stride and σ_o do not matter
+        p = DominantSetsParams(
+            sigma_distance=sd, reliability=rho, stride=stride, sigma_vote=sv, min_cohesion=c
+        )
+        out.append(p)
+    return out
+
+
+def detect_frames_ds(frames, params: DominantSetsParams) -> list[list[list[int]]]:
+    """Dominant sets of every frame alone (:func:`dominant_sets`)."""
+    out = []
+    for rows, _ in frames:
+        ids = rows[:, 0].astype(int)
+        found = dominant_sets(rows[:, 1:3], rows[:, 3], params)
+        out.append([ids[g].tolist() for g, _ in found])
+    return out
+
+
+def ds_mean_f1(frames, params: DominantSetsParams) -> float:
+    """The objective: the mean of F1 at T = 2/3 and T = 1, single frames."""
+    det, truth = detect_frames_ds(frames, params), [t for _, t in frames]
+    return sum(group_detection_scores(det, truth, t).f1 for t in (2 / 3, 1.0)) / 2
+
+
+def dominant_sets_fit(synth, step: float) -> tuple[DominantSetsParams, float]:
+    """The dominant-sets protocol: Synth's headings quantised to ``step`` (rad, detected in the
+    held-out file's features, never its labels), single frames, objective :func:`ds_mean_f1`,
+    the best of :func:`dominant_sets_grid` (first in grid order on ties). Returns the set and
+    its objective."""
+    q = quantise_headings(synth, step)
+    grid = dominant_sets_grid()
+    scores = [ds_mean_f1(q, p) for p in grid]
+    best = int(np.argmax(scores))
+    return grid[best], scores[best]
+
+
+def dominant_sets_section(frames, gcff_protocol: FFormationParams | None = None) -> None:
+    """F-formations as dominant sets (:mod:`socialnav.social.perception.dominant_sets`):
+    the protocol fit (:func:`dominant_sets_fit`, on Synth quantised to CoffeeBreak's detected
+    heading step) scored on Synth, Synth quantised, and CoffeeBreak (held out, run once with
+    the fitted set), single frames; with ``gcff_protocol`` (GCFF's :func:`protocol_fit`, the
+    same protocol) GCFF's rows beside them."""
+    cb = frames["CoffeeBreak_Seq1"]
+    step = heading_step(np.concatenate([rows[:, 3] for rows, _ in cb]))
+    p, objective = dominant_sets_fit(frames["Synth"], step)
+    emit(
+        f"\n## F-formations as dominant sets (Hung & Kröse 2011; single frames)\n\n"
+        f"Protocol fit on Synth quantised to {np.degrees(step):g}° ({len(dominant_sets_grid())} "
+        f"sets, mean F1 of T=2/3 and T=1 = {objective:.3f}): σ_d {p.sigma_distance:g} m, "
+        f"ρ {p.reliability:g}, stride {p.stride:g} m, σ_o {p.sigma_vote:g} m, min cohesion "
+        f"{p.min_cohesion:g}.\n"
+    )
+    emit("| data | parameters | frames | T | precision | recall | F1 |")
+    emit("|---|---|---|---|---|---|---|")
+    data = {
+        "Synth": frames["Synth"],
+        f"Synth, headings quantised to {np.degrees(step):g}°": quantise_headings(
+            frames["Synth"], step
+        ),
+        "CoffeeBreak_Seq1 (held out)": cb,
+    }
+    for name, fr in data.items():
+        truth = [t for _, t in fr]
+        runs = [("dominant sets, protocol fit", detect_frames_ds(fr, p))]
+        if gcff_protocol is not None:
+            runs.append(("GCFF, its protocol fit", detect_frames(fr, gcff_protocol)))
+        for variant, det in runs:
+            for label, t in (("2/3", 2 / 3), ("1", 1.0)):
+                s = group_detection_scores(det, truth, t)
+                scores = f"{s.precision:.3f} | {s.recall:.3f} | {s.f1:.3f}"
+                emit(f"| {name} | {variant} | {s.frames} | {label} | {scores} |")
+
+
+def dominant_sets_only() -> None:
+    """``--only dominant_sets``: :func:`dominant_sets_section` alone."""
+    sets = {n: DATA / "fformations" / n for n in ("Synth", "CoffeeBreak_Seq1")}
+    if not all(p.exists() for p in sets.values()):
+        emit("F-formation data not found: skipped")
+        return
+    dominant_sets_section({n: load_fformations(p) for n, p in sets.items()})
+
+
 def jittered_circles(seed: int = 0) -> list[tuple[int, float, np.ndarray, np.ndarray]]:
     """(members, radius, positions (K, 2), yaws (K,)) of 105 circles facing their centres."""
     rng = np.random.default_rng(seed)
@@ -958,7 +1067,7 @@ def main() -> None:
     parser.add_argument("--queue-scenes", type=int, default=200)
     parser.add_argument(
         "--only",
-        choices=("fformations", "spacing", "queues", "walking", "time"),
+        choices=("fformations", "spacing", "dominant_sets", "queues", "walking", "time"),
         help="one section (fformations: F-formation precision, recall and F1 at match "
         "threshold T; see the module docstring)",
     )
@@ -967,6 +1076,8 @@ def main() -> None:
         fformation_section(args.fit, args.bound)
     if args.only == "spacing":
         spacing_only()
+    if args.only == "dominant_sets":
+        dominant_sets_only()
     if args.only in (None, "queues"):
         queue_section(args.queue_scenes)
     if args.only in (None, "walking"):

@@ -73,7 +73,13 @@ import numpy as np
 from socialnav.core.errors import ConfigurationError
 from socialnav.core.geometry import FloatArray
 from socialnav.core.scene import Artwork, Group, Person, Queue, SocialContext
-from socialnav.social.perception import fformations, queues, viewers, walking  # noqa: F401
+from socialnav.social.perception import (  # noqa: F401
+    dominant_sets,
+    fformations,
+    queues,
+    viewers,
+    walking,
+)
 from socialnav.social.perception.base import (
     DETECTORS,
     STANDING_SPEED,

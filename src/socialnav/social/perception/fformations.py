@@ -79,6 +79,9 @@ a quarter or half the step; fixed before its held-out result was seen) gives ``s
 Output: groups of at least two members with o-space centre (the fitted centre), radius (the mean
 member distance to it) and a score ``1 − mean cost / mdl`` in [0, 1]: the margin by which
 joining beats standing alone (1: every vote on the centre; 0: no better than alone).
+
+An alternative detector of the same candidates, dominant sets with headings as soft evidence
+(Hung & Kröse 2011), is :mod:`socialnav.social.perception.dominant_sets` (``dominant_sets``).
 """
 
 from __future__ import annotations
