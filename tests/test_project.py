@@ -87,3 +87,14 @@ def test_readme_duckdb_query_runs_on_stored_results(tmp_path, monkeypatch) -> No
     assert all(r[1] == "pr2" and r[2] == 1 and r[3] in (0.0, 1.0) for r in rows)
     # the mean time is over arrivals: a planner that arrived has a number, not NaN
     assert all(r[4] is not None and r[4] == r[4] for r in rows if r[3] == 1.0)
+
+
+def test_readme_context_estimator_example_finds_the_pair() -> None:
+    text = (ROOT / "README.md").read_text()
+    (block,) = [
+        b for b in re.findall(r"```python\n(.*?)```", text, re.S) if "ContextEstimator" in b
+    ]
+    namespace: dict[str, object] = {}
+    exec(compile(block.replace("print(", "groups = ("), "README.md", "exec"), namespace)
+    groups = namespace["groups"]
+    assert [g.member_ids for g in groups] == [(1, 2)]  # type: ignore[attr-defined]

@@ -527,13 +527,42 @@ def ros2(
     params: Annotated[
         Path | None, typer.Option(help="Nav2-style params file (socialnav: ros__parameters: ...).")
     ] = None,
+    list_params: Annotated[
+        bool,
+        typer.Option(
+            "--list-params",
+            help="Print every node parameter (default, range, run-time changeable) and exit; "
+            "needs no ROS.",
+        ),
+    ] = False,
+    robot_model: Annotated[
+        str, typer.Option(help="With --list-params: the model whose limits are the defaults.")
+    ] = "pioneer",
 ) -> None:
     """Run the socialnav ROS 2 lifecycle node; arguments after --ros-args go to ROS."""
     import importlib.util
 
     from socialnav.core.errors import ConfigurationError
     from socialnav.integrations.ros2 import INSTALL_HINT
-    from socialnav.integrations.ros2.params import load_params_file
+    from socialnav.integrations.ros2.params import load_params_file, param_specs
+
+    if list_params:
+        typer.echo("| parameter | default | range or choices | changeable at run time | meaning |")
+        typer.echo("|---|---|---|---|---|")
+        for spec in param_specs(robot_model):
+            if spec.choices:
+                bounds = ", ".join(spec.choices)
+            elif spec.min is not None or spec.max is not None:
+                lo = "-inf" if spec.min is None else f"{spec.min:g}"
+                hi = "inf" if spec.max is None else f"{spec.max:g}"
+                bounds = f"[{lo}, {hi}]"
+            else:
+                bounds = ""
+            dynamic = "yes" if spec.dynamic else "no"
+            typer.echo(
+                f"| `{spec.name}` | {spec.default} | {bounds} | {dynamic} | {spec.description} |"
+            )
+        return
 
     # the params file is checked even without ROS, and a missing extra is always named
     problems = []

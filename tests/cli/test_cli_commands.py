@@ -189,3 +189,21 @@ def test_compare_rejects_an_unknown_suite(tmp_path: Path) -> None:
     result = invoke("compare", "--suite", "papr", "--out", str(tmp_path / "r"))
     assert result.exit_code != 0
     assert "papr" in result.stderr
+
+
+def test_ros2_list_params_prints_every_node_parameter_without_ros() -> None:
+    """``socialnav ros2 --list-params`` is the node's parameter table (one row per declared
+    parameter, the model's limits as defaults), available before the ROS extra is installed."""
+    from socialnav.core.robot import PR2
+    from socialnav.integrations.ros2.params import param_specs
+
+    result = invoke("ros2", "--list-params", "--robot-model", "pr2")
+    assert result.exit_code == 0, result.stdout
+    rows = [ln for ln in result.stdout.splitlines() if ln.startswith("| `")]
+    names = [ln.split("`")[1] for ln in rows]
+    assert names == [spec.name for spec in param_specs("pr2")]
+    by_name = dict(zip(names, rows, strict=True))
+    assert f"| {PR2.max_vel_x} |" in by_name["max_vel_x"]
+    assert "deferred, threaded, inline" in by_name["replan_mode"]
+    assert by_name["path_distance_bias"].split("|")[4].strip() == "yes"
+    assert by_name["sim_time"].split("|")[4].strip() == "no"

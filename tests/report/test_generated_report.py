@@ -43,6 +43,7 @@ def test_report_numbers(tmp_path: Path):
     assert "5/10 (50%)" in report
     # paccet/hl time over the 4 queue scenes both pass: 12 / 10
     assert "| hl | pr2 | 4 | 1.20 | 1.20 |" in report
+    assert "below 1, paccet is faster" in report  # which way the ratio goes
     assert "CrowdNav test bank" in report
     # the failure, with the command that reruns it
     assert "--families queue --seeds 10003:10004 --planners paccet --robots pr2" in report
