@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
-from typing import Annotated, Any
+from typing import Annotated, Any, cast
 
 import typer
 
@@ -421,6 +421,21 @@ def detect(
     out: Annotated[Path, typer.Option(help="Output folder.")] = Path("detect"),
     noise: Annotated[str, typer.Option(help="Perception noise: default or none.")] = "default",
     seed: Annotated[int, typer.Option(help="Seed of the perception noise.")] = 0,
+    velocity_source: Annotated[
+        str,
+        typer.Option(
+            help="Standing or walking from the tracks' velocities (measured) or from each "
+            "track's position history (positions: for tracks without velocities or with "
+            "velocities differenced from noisy positions)."
+        ),
+    ] = "measured",
+    fformations: Annotated[
+        str,
+        typer.Option(
+            help="F-formation detector: fformation (o-space voting and graph cuts, GCFF) or "
+            "dominant_sets (Hung & Kröse 2011)."
+        ),
+    ] = "fformation",
 ) -> None:
     """Estimate the social context over a recording or a scenario.
 
@@ -428,9 +443,19 @@ def detect(
     """
     from socialnav.core.errors import ConfigurationError
     from socialnav.experiments.detect import detect_file
+    from socialnav.social.perception import EstimatorParams
+    from socialnav.social.perception.estimator import VelocitySource
 
+    if fformations not in ("fformation", "dominant_sets"):
+        _fail(f"--fformations must be fformation or dominant_sets, got {fformations!r}")
+        return
     try:
-        summary = detect_file(source, out, noise=noise, seed=seed)
+        base = EstimatorParams()
+        pipeline = tuple(fformations if n == "fformation" else n for n in base.pipeline)
+        params = EstimatorParams(
+            velocity_source=cast("VelocitySource", velocity_source), pipeline=pipeline
+        )
+        summary = detect_file(source, out, noise=noise, seed=seed, params=params)
     except ConfigurationError as exc:
         _fail(str(exc))
         return

@@ -71,6 +71,34 @@ def test_detect_command_writes_structures_and_a_picture(tmp_path: Path):
     assert b"m, map frame" in schema.field("center_x").metadata[b"description"]
 
 
+@pytest.mark.parametrize(
+    "options",
+    [["--fformations", "dominant_sets"], ["--velocity-source", "positions"]],
+)
+def test_detect_command_takes_the_estimators_options(tmp_path: Path, options: list[str]):
+    """The non-default detector and standing test are selectable from the command line and
+    find the same conversation (its three members)."""
+    out = tmp_path / "det"
+    args = ["detect", "group_join", "--out", str(out), "--noise", "none", *options]
+    res = CliRunner().invoke(app, args)
+    assert res.exit_code == 0, res.output
+    assert json.loads(res.output)["structures"] == {"fformation": 1}
+    table = pq.read_table(out / "structures.parquet").to_pylist()
+    assert table and all(r["members"] == [1, 2, 3] for r in table)
+
+
+@pytest.mark.parametrize(
+    ("options", "message"),
+    [
+        (["--fformations", "gcff"], "--fformations must be fformation or dominant_sets"),
+        (["--velocity-source", "speed"], "velocity_source must be measured or positions"),
+    ],
+)
+def test_detect_command_names_a_bad_option(tmp_path: Path, options: list[str], message: str):
+    res = CliRunner().invoke(app, ["detect", "group_join", "--out", str(tmp_path), *options])
+    assert res.exit_code == 2 and message in res.output
+
+
 def test_detect_command_names_a_bad_source(tmp_path: Path):
     res = CliRunner().invoke(app, ["detect", str(tmp_path), "--out", str(tmp_path / "o")])
     assert res.exit_code == 2 and "not an episode folder" in res.output

@@ -16,6 +16,7 @@ keeps their last heading (initially the scenario's).
 
 from __future__ import annotations
 
+import dataclasses
 from pathlib import Path
 from typing import Any
 
@@ -67,10 +68,15 @@ def _recording_of(source: str) -> Recording | None:
 
 
 def detect_recording(
-    recording: Recording, noise: str = "default", seed: int = 0
+    recording: Recording,
+    noise: str = "default",
+    seed: int = 0,
+    params: EstimatorParams | None = None,
 ) -> tuple[list[Estimate], pa.Table]:
     """Estimates at every frame of ``recording`` (its own frame period) and the structures
-    table (module docstring); no map knowledge (an open space has no desk or artwork)."""
+    table (module docstring); no map knowledge (an open space has no desk or artwork).
+    ``params``: the estimator's (default :class:`EstimatorParams`; its ``group_mode`` is set
+    here)."""
     from socialnav.core.scene import HUMAN_RADIUS
 
     period = recording.frame_period * _frame_step(recording)
@@ -90,6 +96,7 @@ def detect_recording(
         np.full(p, HUMAN_RADIUS),
         noise,
         seed,
+        params,
     )
 
 
@@ -103,9 +110,13 @@ def _frame_step(recording: Recording) -> int:
 
 
 def detect_record(
-    record: EpisodeRecord, noise: str = "default", seed: int = 0
+    record: EpisodeRecord,
+    noise: str = "default",
+    seed: int = 0,
+    params: EstimatorParams | None = None,
 ) -> tuple[list[Estimate], pa.Table]:
-    """Estimates per sample of ``record`` and the structures table (module docstring)."""
+    """Estimates per sample of ``record`` and the structures table (module docstring);
+    ``params`` as :func:`detect_recording`."""
     ctx = record.context
     knowledge = MapKnowledge(
         artworks=tuple(Artwork(a.center, a.width, a.facing) for a in ctx.artworks),
@@ -126,6 +137,7 @@ def detect_record(
         record.people_radii,
         noise,
         seed,
+        params,
     )
 
 
@@ -141,6 +153,7 @@ def _detect_frames(
     radii: np.ndarray,
     noise: str,
     seed: int,
+    params: EstimatorParams | None = None,
 ) -> tuple[list[Estimate], pa.Table]:
     """The estimator over frames ``times (T,)`` of people ``ids (P,)``: ``positions`` and
     ``velocities (T, P, 2)`` (NaN where absent), ``headings (T, P)`` or ``None`` (a moving
@@ -149,7 +162,9 @@ def _detect_frames(
 
     if noise not in ("default", "none"):
         raise ConfigurationError(f"unknown noise {noise!r}; use default or none")
-    estimator = ContextEstimator(knowledge, EstimatorParams(group_mode=mode))
+    estimator = ContextEstimator(
+        knowledge, dataclasses.replace(params or EstimatorParams(), group_mode=mode)
+    )
     pts = positions.reshape(-1, 2)
     pts = pts[np.all(np.isfinite(pts), axis=1)]  # absent people are NaN
     bounds = (
@@ -223,21 +238,28 @@ STRUCTURE_COLUMNS = (
 )
 
 
-def detect_file(source: str, out: Path, noise: str = "default", seed: int = 0) -> dict[str, Any]:
-    """Run :func:`detect_record` on ``source`` and write the table and picture into ``out``."""
+def detect_file(
+    source: str,
+    out: Path,
+    noise: str = "default",
+    seed: int = 0,
+    params: EstimatorParams | None = None,
+) -> dict[str, Any]:
+    """Run :func:`detect_record` (or :func:`detect_recording`) on ``source`` with the
+    estimator's ``params`` and write the table and picture into ``out``."""
     from socialnav.viz.context import plot_context
     from socialnav.viz.topdown import save_figure
 
     recording = _recording_of(source)
     if recording is not None:
-        estimates, table = detect_recording(recording, noise, seed)
+        estimates, table = detect_recording(recording, noise, seed, params)
         from socialnav.crowds.space import area_walls
 
         walls, title = area_walls(recording.area), recording.name
         robot = None
     else:
         record = _record_of(source)
-        estimates, table = detect_record(record, noise, seed)
+        estimates, table = detect_record(record, noise, seed, params)
         walls, title, robot = record.walls, record.scenario, record.robot_poses
     out.mkdir(parents=True, exist_ok=True)
     pq.write_table(table, out / STRUCTURES_FILE)

@@ -44,7 +44,8 @@ the others' still keeps ``exp(−1/0.72) ≈ 0.25`` of the proximity affinity. A
 
 Output: groups of at least two members; o-space centre the members' mean position (the
 centre of a circle of evenly spread members, the midpoint of a pair), radius the mean member
-distance to it; score the cohesion.
+distance to it; score 0.6 at the minimum cohesion, rising linearly to 1 at cohesion 1 (the
+tracker's hysteresis confirms a candidate above 0.5).
 """
 
 from __future__ import annotations
@@ -225,9 +226,15 @@ class DominantSetsDetector(ParamDetector[DominantSetsParams]):
         idx = idx[np.argsort(frame.ids[idx], kind="stable")]  # members in id order
         pos, ids = frame.positions[idx], frame.ids[idx]
         out = []
-        for g, score in dominant_sets(pos, frame.yaws[idx], p):
+        for g, cohesion in dominant_sets(pos, frame.yaws[idx], p):
             center = pos[g].mean(axis=0)
             radius = float(np.linalg.norm(pos[g] - center, axis=1).mean())
+            # A set the peeling accepted (cohesion >= min_cohesion) is evidence of a group:
+            # 0.6 at the acceptance threshold, rising to 1 with cohesion, so the tracker's
+            # hysteresis (on = 0.5) confirms it as it does GCFF's; the raw cohesion of a
+            # group of 1.3-1.8 m gaps is about 0.2 and would never be confirmed.
+            c0 = min(p.min_cohesion, 1.0 - 1e-9)
+            score = 0.6 + 0.4 * (float(cohesion) - c0) / (1.0 - c0)
             out.append(
                 Candidate(
                     "fformation",
