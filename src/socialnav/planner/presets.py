@@ -42,6 +42,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from socialnav.core.errors import ConfigurationError
+from socialnav.core.geometry import FloatArray
 from socialnav.core.registry import Registry
 from socialnav.core.robot import RobotModel
 from socialnav.core.scene import SocialContext
@@ -60,7 +61,7 @@ from socialnav.planner.local_planner import (
     LocalPlannerParams,
     traditional_objectives,
 )
-from socialnav.planner.navigator import CostmapLayer, Navigator, ReplanMode
+from socialnav.planner.navigator import CostmapLayer, MeetingLayer, Navigator, ReplanMode
 from socialnav.planner.objectives import Objective
 from socialnav.planner.recovery import RecoveringPlanner, RecoveryParams
 from socialnav.social.goals import SocialGoal
@@ -95,6 +96,11 @@ class PlannerPreset:
     spot_tolerance: tuple[float, float] | None = None
     order: int = 1000
     recovery: RecoveryParams = field(default_factory=RecoveryParams)
+    #: with ``social_global_path``: walkers' personal space drawn where the robot can meet
+    #: them (:func:`meeting_space_layer`), not where they are now
+    meeting_layer: bool = False
+    #: ``Navigator.replan_hysteresis``: keep the plan unless a new one is this much cheaper
+    replan_hysteresis: float = 0.0
 
 
 PRESETS: Registry[PlannerPreset] = Registry("planner preset")
@@ -193,6 +199,11 @@ RECOMMENDED_SPOT_TOLERANCE = (0.07, 0.15)
 RECOMMENDED_PARAMS = LocalPlannerParams(stop_at_goal=True, xy_goal_tolerance=0.07)
 
 
+#: ``paccet``'s replanning keeps its plan unless a new one costs this fraction less (on the
+#: new costmap), so the plan stops flipping sides around a crossing crowd.
+RECOMMENDED_HYSTERESIS = 0.15
+
+
 def paper_selection(weights: list[float]) -> SelectionStrategy:
     """PaCcET with the reference code's weights and bisections."""
     return PaccetSelection(Weighted(weights), PaccetOptions.reference())
@@ -278,6 +289,8 @@ PRESETS.add(
         params=RECOMMENDED_PARAMS,
         spot_tolerance=RECOMMENDED_SPOT_TOLERANCE,
         order=80,
+        meeting_layer=True,
+        replan_hysteresis=RECOMMENDED_HYSTERESIS,
     ),
 )
 
@@ -479,6 +492,14 @@ def build_navigator(
         layer = proxemic
 
     global_layer: CostmapLayer | None = personal_space_layer if preset.social_global_path else None
+    meeting: MeetingLayer | None = None
+    if preset.social_global_path and preset.meeting_layer:
+        global_layer = standing_space_layer
+        speed = MEETING_LAYER["speed_fraction"] * robot.max_vel_x
+
+        def meeting(costmap: Costmap, people: SocialContext, start: FloatArray) -> Costmap:
+            return meeting_space_layer(costmap, people, start, speed)
+
     if preset.proxemic_layer:
         global_layer = layer  # a ROS user adds the social layer to both costmaps
     return Navigator(
@@ -501,6 +522,8 @@ def build_navigator(
         global_search=global_search,
         replan_mode=replan_mode,
         replan_delay=replan_delay,
+        meeting_layer=meeting,
+        replan_hysteresis=preset.replan_hysteresis,
     )
 
 
@@ -520,17 +543,23 @@ PERSONAL_SPACE_LAYER = {"amplitude": 250.0, "variance": 0.64, "cutoff": 5.0, "ve
 OSPACE_COST = 220
 
 
-def personal_space_layer(costmap: Costmap, social: SocialContext) -> Costmap:
-    """``costmap`` with a Gaussian personal-space cost per person and o-space costs."""
+def personal_space_layer(
+    costmap: Costmap, social: SocialContext, drawn: NDArray[np.bool_] | None = None
+) -> Costmap:
+    """``costmap`` with a Gaussian personal-space cost per person (those ``drawn (K,)``, all
+    by default) and every group's o-space cost."""
     from socialnav.social.spaces import o_space
     from socialnav.world.costmap import combine_max
 
     if not social.people:
         return costmap
+    positions, velocities = social.positions(), social.velocities()
+    if drawn is not None:
+        positions, velocities = positions[drawn], velocities[drawn]
     costs = proxemic_costs(
         costmap.geometry,
-        social.positions(),
-        social.velocities(),
+        positions,
+        velocities,
         amplitude=PERSONAL_SPACE_LAYER["amplitude"],
         variance=PERSONAL_SPACE_LAYER["variance"],
         cutoff=PERSONAL_SPACE_LAYER["cutoff"],
@@ -544,4 +573,58 @@ def personal_space_layer(costmap: Costmap, social: SocialContext) -> Costmap:
             center, radius = o_space(social.positions(group.member_ids))
             inside = np.hypot(xs - center[0], ys - center[1]) <= radius
             costs[inside] = np.maximum(costs[inside], OSPACE_COST)
+    return combine_max(costmap, costs)
+
+
+#: The meeting layer (:mod:`socialnav.world.meeting_layer`) in the global plan: the personal
+#: space of PERSONAL_SPACE_LAYER at each walker's meeting point with the robot cruising at
+#: ``speed_fraction`` of its top speed; people slower than ``min_speed`` (m/s) are standing
+#: (their Gaussian where they are). Development seeds: see ``benchmarks/time_breakdown.py``.
+MEETING_LAYER = {
+    "speed_fraction": 0.8,
+    "min_speed": 0.3,
+    "horizon": 10.0,
+    "tau0": 1.0,
+    "tau_rate": 0.25,
+}
+
+
+def _walking(social: SocialContext) -> NDArray[np.bool_]:
+    v = social.velocities().reshape(-1, 2)
+    return np.asarray(np.hypot(v[:, 0], v[:, 1]) >= MEETING_LAYER["min_speed"])
+
+
+def standing_space_layer(costmap: Costmap, social: SocialContext) -> Costmap:
+    """:func:`personal_space_layer` of the people slower than ``MEETING_LAYER["min_speed"]``
+    (with every group's o-space); walkers are :func:`meeting_space_layer`'s."""
+    if not social.people:
+        return costmap
+    return personal_space_layer(costmap, social, ~_walking(social))
+
+
+def meeting_space_layer(
+    costmap: Costmap, social: SocialContext, start: FloatArray, speed: float
+) -> Costmap:
+    """``costmap`` with each walker's personal space where the robot, starting at ``start (3,)``
+    and cruising at ``speed`` m/s, can meet them (:func:`socialnav.world.meeting_layer.\
+meeting_costs` with ``PERSONAL_SPACE_LAYER``'s Gaussian and ``MEETING_LAYER``'s timing)."""
+    from socialnav.world.costmap import combine_max
+    from socialnav.world.meeting_layer import meeting_costs
+
+    walking = _walking(social) if social.people else np.zeros(0, dtype=bool)
+    if not walking.any():
+        return costmap
+    costs = meeting_costs(
+        costmap.geometry,
+        social.positions()[walking],
+        social.velocities()[walking],
+        np.asarray(start, dtype=float)[:2],
+        speed,
+        amplitude=PERSONAL_SPACE_LAYER["amplitude"],
+        variance=PERSONAL_SPACE_LAYER["variance"],
+        cutoff=PERSONAL_SPACE_LAYER["cutoff"],
+        horizon=MEETING_LAYER["horizon"],
+        tau0=MEETING_LAYER["tau0"],
+        tau_rate=MEETING_LAYER["tau_rate"],
+    )
     return combine_max(costmap, costs)
