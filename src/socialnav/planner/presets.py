@@ -608,9 +608,11 @@ def meeting_space_layer(
     """``costmap`` with each walker's personal space where the robot, starting at ``start (3,)``
     and cruising at ``speed`` m/s, can meet them (:func:`socialnav.world.meeting_layer.\
 meeting_costs` with ``PERSONAL_SPACE_LAYER``'s Gaussian and ``MEETING_LAYER``'s timing)."""
+    from socialnav.world import meeting_layer
     from socialnav.world.costmap import combine_max
-    from socialnav.world.meeting_layer import meeting_costs
 
+    # The compiled kernel when on (the same layer), else the NumPy reference.
+    meeting_costs = kernels.meeting_costs if kernels.enabled() else meeting_layer.meeting_costs
     walking = _walking(social) if social.people else np.zeros(0, dtype=bool)
     if not walking.any():
         return costmap

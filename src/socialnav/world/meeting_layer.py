@@ -26,6 +26,8 @@ space-time "meeting point" in the spirit of velocity obstacles, Fiorini & Shille
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
@@ -54,8 +56,91 @@ def meeting_costs(
     of arrival time) the timing uncertainty, ``variance`` ``σ²`` (m²). People combine by
     maximum; ``K = 0`` gives zeros. The work per walker is bounded by the window around the
     stretch of lane the robot can meet (clipped to the grid). Raises ``InvalidInputError`` on
-    malformed or non-positive parameters.
+    malformed or non-positive parameters. The NumPy reference of
+    :func:`socialnav.planner.kernels.meeting_costs` (compiled, the same values).
     """
+    start, windows, _ = meeting_windows(
+        geometry, positions, velocities, start_xy, speed, amplitude, variance, cutoff,
+        horizon, tau0, tau_rate, lane_step,
+    )  # fmt: skip
+    out = np.zeros(geometry.shape, dtype=np.uint8)
+    if not windows:
+        return out
+    res = geometry.resolution
+    rows_n, cols_n = geometry.shape
+    ox, oy = geometry.origin
+    depth = float(np.log(amplitude / cutoff))
+    # The robot's arrival time and timing precision per cell, once for every walker.
+    xc = ox + (np.arange(cols_n) + 0.5) * res
+    yc = oy + (np.arange(rows_n) + 0.5) * res
+    arrive_all = np.hypot(xc[None, :] - start[0], yc[:, None] - start[1]) / speed
+    w_all = tau0 + tau_rate * arrive_all
+    inv_tau2_all = 1.0 / (w_all * w_all)
+    flat_out = out.reshape(-1)
+    two_var = 2.0 * variance
+    for w in windows:
+        r0, r1, c0, c1 = w.r0, w.r1, w.c0, w.c1
+        dx = xc[None, c0:c1] - w.x  # (1, W)
+        dy = yc[r0:r1, None] - w.y  # (H, 1)
+        arrive = arrive_all[r0:r1, c0:c1]
+        inv_tau2 = inv_tau2_all[r0:r1, c0:c1]
+        t = ((dx * w.vx + dy * w.vy) / variance + arrive * inv_tau2) / (w.den + inv_tau2)
+        t = np.minimum(np.maximum(t, 0.0), w.h)
+        ex, ey = dx - t * w.vx, dy - t * w.vy
+        lag = arrive - t
+        e = (ex * ex + ey * ey) / two_var + 0.5 * lag * lag * inv_tau2
+        keep = e <= depth  # the rest is below the cutoff: no exp for it
+        if not keep.any():
+            continue
+        a = amplitude * np.exp(-e[keep])
+        ok = a >= cutoff
+        rr, cc = np.divmod(np.flatnonzero(keep)[ok], c1 - c0)
+        flat = (rr + r0) * cols_n + (cc + c0)
+        flat_out[flat] = np.maximum(flat_out[flat], np.floor(a[ok]).astype(np.uint8))
+    return out
+
+
+class MeetingWindow(NamedTuple):
+    """One walker's cell window ``[r0, r1) × [c0, c1)`` (clipped to the grid, non-empty),
+    position ``x, y`` (m), velocity ``vx, vy`` (m/s), ``den = |v|² / σ²``, the lane's
+    duration ``h`` (s), and the lane points ``[s0, s1)`` of :func:`meeting_windows`'s
+    ``samples`` the robot can meet (every cell above the cutoff lies within ``radius`` m of
+    one of them)."""
+
+    r0: int
+    r1: int
+    c0: int
+    c1: int
+    x: float
+    y: float
+    vx: float
+    vy: float
+    den: float
+    h: float
+    s0: int
+    s1: int
+    radius: float
+
+
+def meeting_windows(
+    geometry: GridGeometry,
+    positions: ArrayLike,
+    velocities: ArrayLike,
+    start_xy: ArrayLike,
+    speed: float,
+    amplitude: float = 250.0,
+    variance: float = 0.64,
+    cutoff: float = 5.0,
+    horizon: float = 10.0,
+    tau0: float = 1.0,
+    tau_rate: float = 0.25,
+    lane_step: float = 0.25,
+) -> tuple[NDArray[np.float64], list[MeetingWindow], NDArray[np.float64]]:
+    """The validated start ``(2,)``, per-walker windows of :func:`meeting_costs` (its
+    arguments; raises ``InvalidInputError`` on bad ones) and the lane points ``(S, 2)`` (m)
+    they index: every cell above ``cutoff`` is inside its walker's window and within the
+    window's ``radius`` of one of its lane points. Walkers the robot cannot meet on the grid
+    have none."""
     pos = as_points(positions, "positions").reshape(-1, 2)
     vel = as_points(velocities, "velocities").reshape(-1, 2)
     start = as_points(start_xy, "start_xy")
@@ -78,9 +163,11 @@ def meeting_costs(
         raise InvalidInputError(f"tau_rate must be finite and >= 0, got {tau_rate}")
     if amplitude > LETHAL:
         raise InvalidInputError(f"amplitude must be <= {LETHAL} (a uint8 cost), got {amplitude}")
-    out = np.zeros(geometry.shape, dtype=np.uint8)
+    out: list[MeetingWindow] = []
+    samples: list[NDArray[np.float64]] = [np.zeros((0, 2))]
+    count = 0
     if pos.shape[0] == 0 or cutoff >= amplitude:
-        return out
+        return start, out, samples[0]
     res = geometry.resolution
     rows_n, cols_n = geometry.shape
     ox, oy = geometry.origin
@@ -89,17 +176,20 @@ def meeting_costs(
     diagonal = float(np.hypot(rows_n, cols_n)) * res
     for k in range(pos.shape[0]):
         p, v = pos[k], vel[k]
-        v_speed = float(np.hypot(*v))
+        v_speed = float(np.hypot(v[0], v[1]))
         # The lane's duration, bounded by the grid (a tracker glitch at 10 m/s stays cheap).
         h = min(horizon, diagonal / v_speed) if v_speed > 0 else 0.0
         n = max(int(np.ceil(v_speed * h / lane_step)), 1)
         ts = np.linspace(0.0, h, n + 1)
         q = p[None] + ts[:, None] * v[None]  # (n+1, 2)
         tq = np.hypot(*(q - start).T) / speed
-        tau = tau0 + tau_rate * tq
-        # Lane points the robot can be near at the walker's time there: a cell within
-        # ``reach`` of q differs in arrival time by at most reach / speed.
-        near = np.abs(tq - ts) <= reach / speed + np.sqrt(2.0 * depth) * tau
+        # Lane points a cell can draw on: a cell d <= reach from q(t) arrives within d / speed
+        # of q's arrival, with tau at most tau_far; minimising E over d leaves the bound
+        # E >= (tq - t)² / (2 (tau_far² + σ² / speed²)). Half a lane step of slack.
+        tau_far = tau0 + tau_rate * (tq + (reach + lane_step) / speed)
+        slack = 0.5 * lane_step * (1.0 / speed + 1.0 / max(v_speed, 1e-9))
+        gap = np.maximum(np.abs(tq - ts) - slack, 0.0)
+        near = gap * gap <= 2.0 * depth * (tau_far * tau_far + variance / speed**2)
         if not near.any():
             continue
         lo = q[near].min(axis=0) - reach - res
@@ -110,18 +200,13 @@ def meeting_costs(
         r1 = min(int(np.ceil((hi[1] - oy) / res)) + 1, rows_n)
         if r0 >= r1 or c0 >= c1:
             continue
-        dx = ox + (np.arange(c0, c1)[None, :] + 0.5) * res - p[0]  # (1, W)
-        dy = oy + (np.arange(r0, r1)[:, None] + 0.5) * res - p[1]  # (H, 1)
-        arrive = np.hypot(dx + (p[0] - start[0]), dy + (p[1] - start[1])) / speed  # (H, W)
-        inv_tau2 = 1.0 / (tau0 + tau_rate * arrive) ** 2
-        t = ((dx * v[0] + dy * v[1]) / variance + arrive * inv_tau2) / (
-            v_speed * v_speed / variance + inv_tau2
-        )
-        t = np.clip(t, 0.0, h)
-        ex, ey = dx - t * v[0], dy - t * v[1]
-        e = (ex * ex + ey * ey) / (2.0 * variance) + 0.5 * (arrive - t) ** 2 * inv_tau2
-        a = amplitude * np.exp(-e)
-        block = out[r0:r1, c0:c1]
-        keep = a >= cutoff
-        block[keep] = np.maximum(block[keep], np.floor(a[keep]).astype(np.uint8))
-    return out
+        den = v_speed * v_speed / variance
+        kept = q[near]
+        samples.append(kept)
+        # A cell's best lane point is within half a lane step of a sample (a hair more).
+        radius = (reach + 0.5 * lane_step) * (1.0 + 1e-6) + 1e-9
+        cell_box = (r0, r1, c0, c1)
+        walker = (float(p[0]), float(p[1]), float(v[0]), float(v[1]), den, h)
+        out.append(MeetingWindow(*cell_box, *walker, count, count + len(kept), radius))
+        count += len(kept)
+    return start, out, np.concatenate(samples)
