@@ -454,7 +454,8 @@ class Navigator:
                 self._request(now, pose, target, social, changed, off_plan, velocity)
         elif urgent or scheduled:
             self._discard_pending()
-            kept = None if (changed or off_plan) else self._path
+            # A waiting robot replans to find another way: no hysteresis then.
+            kept = None if (changed or off_plan or self._waiting) else self._path
             plan = self._compute_plan(pose, target, social, changed or self._path is None, kept)
             self._apply_plan(now, pose, target, plan, changed, off_plan)
         if self._path is None:
@@ -544,7 +545,8 @@ class Navigator:
         lead = self._lead()
         start = pose if velocity is None else self._predicted(pose, velocity, lead)
         ahead = _advanced(social, lead)
-        kept = None if (changed or off_plan or self._path is None) else self._path.copy()
+        keep = not (changed or off_plan or self._waiting or self._path is None)
+        kept = self._path.copy() if keep and self._path is not None else None
         future = self._executor.submit(self._compute_plan, start, target, ahead, changed, kept)
         self._pending = _PendingPlan(
             future, self._step_index + self.replan_delay, now, pose, target, changed, off_plan
