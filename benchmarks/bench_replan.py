@@ -81,7 +81,9 @@ def main(quick: bool = False) -> None:
             def before(social: SocialContext = social, goal: np.ndarray = goal, tol: float = tol):
                 previous = kernels.set_enabled(False)
                 try:
-                    discs = np.column_stack([social.positions(), social.radii()])
+                    # People grown by half a cell diagonal, as the navigator draws them.
+                    grown = social.radii() + costmap.resolution * np.sqrt(2.0) / 2.0
+                    discs = np.column_stack([social.positions(), grown])
                     cm = add_obstacle_discs(costmap, discs, PR2.inscribed_radius)
                     cm = standing_space_layer(cm, social)
                     cm = meeting_space_layer(cm, social, pose, speed)

@@ -11,7 +11,9 @@ time was lost before the midpoint). Development seeds only (< 10,000). Usage::
     python benchmarks/time_breakdown.py --families crowdnav,crowdnav_visible --seeds 0:6
 
 Variants beside the shipped ``paccet``: ``paccet_static_global`` (no personal-space layer in the
-global plan, ``social_global_path=False``), to show the share of the global plan's detour.
+global plan, ``social_global_path=False``), to show the share of the global plan's detour, and
+``paccet_where_now`` (every walker's personal space where they are now, no replan hysteresis:
+the global plan before the meeting layer).
 """
 
 from __future__ import annotations
@@ -29,7 +31,10 @@ from socialnav.planner.presets import PRESETS
 from socialnav.sim.generate import GENERATORS
 
 VARIANTS = {
-    "paccet_static_global": dataclasses.replace(PRESETS.get("paccet"), social_global_path=False)
+    "paccet_static_global": dataclasses.replace(PRESETS.get("paccet"), social_global_path=False),
+    "paccet_where_now": dataclasses.replace(
+        PRESETS.get("paccet"), meeting_layer=False, replan_hysteresis=0.0
+    ),
 }
 STOPPED = 0.05  # m/s
 

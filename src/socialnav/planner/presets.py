@@ -20,8 +20,11 @@
   partners at the interaction's own distance in ID (``partner_objectives``); arrival inside
   ``RECOMMENDED_SPOT_TOLERANCE`` at social spots; rollouts that stop at the goal
   (``LocalPlannerParams.stop_at_goal``) inside a 0.07 m tolerance; walkers' passing distance
-  in ID (``PASSING_HORIZON``). These were measured on the generated suite's development seeds
-  (``benchmarks/tune_generated.py``) and Table 1.
+  in ID (``PASSING_HORIZON``); in the global plan, walkers' personal space drawn where the
+  robot can meet them (``MEETING_LAYER``, :func:`meeting_space_layer`) and replanning that keeps
+  the plan unless a new one is clearly cheaper (``RECOMMENDED_HYSTERESIS``). These were
+  measured on the generated suite's development seeds (``benchmarks/tune_generated.py``,
+  ``benchmarks/time_breakdown.py``) and Table 1.
 
 Deviation shared by all social presets: navigation steers to the social goal (the Navigator
 plans to it); the paper kept the given goal and let ``SGD`` pull toward the social goal, so its
