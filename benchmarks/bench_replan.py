@@ -7,9 +7,10 @@ Setup (seeded, as ``bench_crowd_step.py``): the 27 m × 27 m room of the paper s
 group/queue scenes (540 × 540 cells at 0.05 m), the ``paccet`` navigator's global stack
 (``Navigator._compute_plan``: people as obstacle discs, the standing people's personal space
 and the walkers' where the robot can meet them (``standing_space_layer``,
-``meeting_space_layer``), plan with navfn's tolerance), the PR2 at (3, 3) planning to (24, 24) and to (12, 8) (a near goal: the
-compiled search stops there); 50 people walking at 0.5–1.3 m/s, the fastest one at
-``fast`` m/s (1, 3, 5 and 10: the cost must not grow with it).
+``meeting_space_layer``), plan with navfn's tolerance), the PR2 at (3, 3) planning to
+(24, 24) and to (12, 8) (a near goal: the compiled search stops there); 50 people walking
+at 0.5–1.3 m/s, the fastest one at ``fast`` m/s (1, 3, 5 and 10: the cost must not grow with
+it).
 
 Rows per scene: ``before`` = full re-inflation of the map, the NumPy layers and SciPy's
 Dijkstra (the reference implementation: the baseline); ``exact`` = the kept static inflation
@@ -42,6 +43,7 @@ from socialnav.sim.scenario import load_scenario
 from socialnav.world.costmap import add_obstacle_discs
 
 SEED = 11
+SPEED = MEETING_LAYER["speed_fraction"] * PR2.max_vel_x  # the navigator's cruising speed
 GOALS = {
     "far goal (24, 24)": np.array([24.0, 24.0, 0.0]),
     "near goal (12, 8)": np.array([12.0, 8.0, 0.0]),
@@ -73,7 +75,6 @@ def main(quick: bool = False) -> None:
                 for search in ("scipy", "compiled")
             }
             tol = 0.5 * PR2.circumscribed_radius
-            speed = MEETING_LAYER["speed_fraction"] * PR2.max_vel_x
             # The global layer before the meeting layer: every person where they are now.
             now = build_navigator("paccet", PR2, costmap, goal, SocialContext())
             now.global_layer, now.meeting_layer = personal_space_layer, None
@@ -86,7 +87,7 @@ def main(quick: bool = False) -> None:
                     discs = np.column_stack([social.positions(), grown])
                     cm = add_obstacle_discs(costmap, discs, PR2.inscribed_radius)
                     cm = standing_space_layer(cm, social)
-                    cm = meeting_space_layer(cm, social, pose, speed)
+                    cm = meeting_space_layer(cm, social, pose, SPEED)
                     return plan_path(cm, pose[:2], goal[:2], tolerance=tol)
                 finally:
                     kernels.set_enabled(previous)
