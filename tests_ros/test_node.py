@@ -287,3 +287,52 @@ def test_topics_are_remappable() -> None:
     finally:
         node.destroy_node()
         rclpy.try_shutdown()
+
+
+def test_people_entering_and_leaving_keep_the_planner(graph, monkeypatch) -> None:
+    """The planner is built once per goal: people entering and leaving the view change its
+    objective set, not the planner (a rebuild would drop its plan and the replan in flight)."""
+    import socialnav.integrations.ros2.node as node_module
+
+    built: list[object] = []
+    real_build = node_module.build_navigator
+
+    def counting_build(*args, **kwargs):
+        built.append(real_build(*args, **kwargs))
+        return built[-1]
+
+    monkeypatch.setattr(node_module, "build_navigator", counting_build)
+    node, peer, executor = graph
+    odom_pub, people_pub = activate_with_goal(node, peer, executor)
+    seen: list[tuple[int, tuple[str, ...]]] = []
+    patched = None
+    x, k, end = 0.0, 0, time.monotonic() + 4.5
+    while time.monotonic() < end:
+        nav = node.navigator
+        if nav is not None and nav is not patched:
+            step = nav.step
+
+            def traced(t, pose, velocity, social, _step=step):
+                result = _step(t, pose, velocity, social)
+                names = result.record.objective_names if result.record is not None else ()
+                seen.append((len(social.people), names))
+                return result
+
+            nav.step, patched = traced, nav
+        x += 0.02
+        odom_pub.publish(odom(peer, x, 0.4))
+        if (k // 30) % 2 == 0:  # 1.5 s with a person in view, 1.5 s without (tracks: 1 s)
+            people_pub.publish(people(peer))
+        else:
+            empty = PoseArray()
+            empty.header.frame_id = "map"
+            empty.header.stamp = peer.get_clock().now().to_msg()
+            people_pub.publish(empty)
+        k += 1
+        spin_until(executor, lambda: False, 0.05)
+    counts = {n for n, _ in seen}
+    assert 0 in counts and 1 in counts, counts
+    assert len(built) == 1 and node.navigator is built[0]
+    with_people = {names for n, names in seen if n and names}
+    without = {names for n, names in seen if not n and names}
+    assert with_people and without and with_people.isdisjoint(without)

@@ -607,7 +607,6 @@ def test_kept_search_workspace_equals_fresh_arrays(seed: int, searches: int) -> 
     if not kernels.enabled():
         pytest.skip("reference path selected")
     rng = np.random.default_rng(seed)
-    offsets = np.array(_OFFSETS)
     steps = np.array([0.1 * float(np.hypot(dr, dc)) for dr, dc in _OFFSETS])
     cases = []
     sizes = [tuple(int(v) for v in rng.integers(3, 40, 2)) for _ in range(2)]
@@ -621,9 +620,7 @@ def test_kept_search_workspace_equals_fresh_arrays(seed: int, searches: int) -> 
 
     def run(case, reuse):
         costs, passable, start, goal = case
-        dist, pred = kernels.astar(
-            costs, passable, start, goal, offsets, steps, 50.0, 3.0, 0.1, reuse=reuse
-        )
+        dist, pred = kernels.astar(costs, passable, start, goal, steps, 50.0, 3.0, 0.1, reuse=reuse)
         return dist.copy(), pred.copy()
 
     fresh = [run(case, False) for case in cases]

@@ -45,8 +45,8 @@ PlanStatus = Literal["OK", "NO_PATH", "START_BLOCKED", "GOAL_BLOCKED"]
 #: exactly the same they may pick different ones, so ``"compiled"`` is opt-in.
 GlobalSearch = Literal["scipy", "compiled"]
 
-# Neighbour offsets (d_row, d_col); one CSR slot each.
-_OFFSETS = ((-1, -1), (-1, 0), (-1, 1), (0, -1), (0, 1), (1, -1), (1, 0), (1, 1))
+# Neighbour offsets (d_row, d_col); one CSR slot each (the compiled A*'s order too).
+_OFFSETS = kernels.ASTAR_OFFSETS
 
 
 @dataclass(frozen=True)
@@ -194,7 +194,6 @@ def plan_path(
             passable,
             s_idx,
             g_idx,
-            np.array(_OFFSETS),
             steps,
             neutral_cost,
             cost_factor,

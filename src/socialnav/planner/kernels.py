@@ -915,8 +915,15 @@ def _heap_up(hk, hn, pos, i, key, node):  # type: ignore[no-untyped-def]
 
 
 @_jit
-def _heap_down(hk, hn, pos, size, key, node):  # type: ignore[no-untyped-def]
-    """Place ``(key, node)`` at the root and sift it down."""
+def _heap_pop(hk, hn, pos, size):  # type: ignore[no-untyped-def]
+    """Remove the root of the heap of ``size`` entries and return the new size. Bottom-up
+    (Floyd): the hole at the root moves down along the smaller children to a leaf, where the
+    last entry is put and sifted up; fewer comparisons than sifting the last entry down from
+    the root, as it usually belongs near the bottom again."""
+    size -= 1
+    if size == 0:
+        return 0
+    key, node = hk[size], hn[size]
     i = 0
     while True:
         child = 2 * i + 1
@@ -928,30 +935,30 @@ def _heap_down(hk, hn, pos, size, key, node):  # type: ignore[no-untyped-def]
             if rk < ck or (rk == ck and rn < cn):
                 child += 1
                 ck, cn = rk, rn
-        if key < ck or (key == ck and node < cn):
-            break
         hk[i] = ck
         hn[i] = cn
         pos[cn] = i
         i = child
-    hk[i] = key
-    hn[i] = node
-    pos[node] = i
+    _heap_up(hk, hn, pos, i, key, node)
+    return size
 
 
 @_jit
 def _astar_kernel(  # type: ignore[no-untyped-def]
-    costs, passable, start, goal, offsets, steps, neutral, half_factor, h_scale, dist, pred,
-    pos, hk, hn, touched,
+    costs, passable, start, goal, steps, neutral, half_factor, h_scale, dist, pred, pos, hk,
+    hn, touched,
 ):  # fmt: skip
     """A* over the 8-slot grid graph of :func:`grid_weights` (its edge weights, computed on
-    the fly with the same operations), from ``start`` (flat index) until ``goal`` (flat index,
-    or -1 for an exhaustive search) is settled. Heap key ``(g + h, node)``; ``h`` = octile
+    the fly with the same operations; the neighbours in the order of ``ASTAR_OFFSETS``, move
+    lengths ``steps (8,)``), from ``start`` (flat index) until ``goal`` (flat index, or -1
+    for an exhaustive search) is settled. Heap key ``(g + h, node)``; ``h`` = octile
     distance x ``h_scale`` (a lower bound of every move's cost, so consistent).
     ``dist``/``pred``/``pos`` (heap slot, -2 once settled) must hold ``inf``/-1/-1 on entry;
     every node given a cost is listed in ``touched`` (:func:`_astar_reset` restores those).
     Returns how many are listed."""
     rows, cols = costs.shape
+    cf = costs.reshape(-1)
+    pf = passable.reshape(-1)
     gr, gc = 0, 0
     if goal >= 0:
         gr = goal // cols
@@ -967,36 +974,50 @@ def _astar_kernel(  # type: ignore[no-untyped-def]
     while size > 0:
         u = hn[0]
         pos[u] = -2
-        size -= 1
-        if size > 0:
-            _heap_down(hk, hn, pos, size, hk[size], hn[size])
+        size = _heap_pop(hk, hn, pos, size)
         if u == goal:
             break
+        if not pf[u]:
+            continue
         r = u // cols
         c = u - r * cols
-        if not passable[r, c]:
-            continue
         du = dist[u]
-        cu = np.float64(costs[r, c])
-        for k in range(offsets.shape[0]):
-            dr, dc = offsets[k, 0], offsets[k, 1]
-            rn, cn = r + dr, c + dc
-            if not (0 <= rn < rows and 0 <= cn < cols and passable[rn, cn]):
+        cu = np.float64(cf[u])
+        # The four sides once per node; a diagonal needs both corner cells passable.
+        up = r > 0 and pf[u - cols]
+        down = r < rows - 1 and pf[u + cols]
+        left = c > 0 and pf[u - 1]
+        right = c < cols - 1 and pf[u + 1]
+        for k in range(8):  # the order of ASTAR_OFFSETS (ties: the reference's order)
+            if k == 0:
+                ok, v, dr, dc = up and left and pf[u - cols - 1], u - cols - 1, -1, -1
+            elif k == 1:
+                ok, v, dr, dc = up, u - cols, -1, 0
+            elif k == 2:
+                ok, v, dr, dc = up and right and pf[u - cols + 1], u - cols + 1, -1, 1
+            elif k == 3:
+                ok, v, dr, dc = left, u - 1, 0, -1
+            elif k == 4:
+                ok, v, dr, dc = right, u + 1, 0, 1
+            elif k == 5:
+                ok, v, dr, dc = down and left and pf[u + cols - 1], u + cols - 1, 1, -1
+            elif k == 6:
+                ok, v, dr, dc = down, u + cols, 1, 0
+            else:
+                ok, v, dr, dc = down and right and pf[u + cols + 1], u + cols + 1, 1, 1
+            if not ok:
                 continue
-            if dr != 0 and dc != 0 and not (passable[rn, c] and passable[r, cn]):
-                continue
-            v = rn * cols + cn
             slot = pos[v]
             if slot == -2:
                 continue
-            nd = du + steps[k] * (neutral + half_factor * (cu + np.float64(costs[rn, cn])))
+            nd = du + steps[k] * (neutral + half_factor * (cu + np.float64(cf[v])))
             if nd < dist[v]:
                 dist[v] = nd
                 pred[v] = u
                 h = 0.0
                 if goal >= 0:
-                    ar = abs(rn - gr)
-                    ac = abs(cn - gc)
+                    ar = abs(r + dr - gr)
+                    ac = abs(c + dc - gc)
                     h = h_scale * (max(ar, ac) + diag * min(ar, ac))
                 if slot == -1:
                     slot = size
@@ -1050,6 +1071,8 @@ class _SearchWorkspace(threading.local):
 
 
 _WORKSPACE = _SearchWorkspace()
+#: The neighbour order of :func:`astar` (that of the global planner's CSR graph).
+ASTAR_OFFSETS = ((-1, -1), (-1, 0), (-1, 1), (0, -1), (0, 1), (1, -1), (1, 0), (1, 1))
 
 
 def astar(
@@ -1057,7 +1080,6 @@ def astar(
     passable: NDArray[np.bool_],
     start: int,
     goal: int,
-    offsets: NDArray[np.int64],
     steps: NDArray[np.float64],
     neutral_cost: float,
     cost_factor: float,
@@ -1066,11 +1088,16 @@ def astar(
 ) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
     """Costs-to-come ``(rows·cols,)`` and predecessors (``-1``: none) of an A* search on the
     global planner's grid graph from flat ``start`` to flat ``goal`` (``-1``: every reachable
-    cell, i.e. Dijkstra). Exact where settled: the goal's cost, and with ``goal = -1`` or an
-    unreachable goal the set of reachable cells, are those of a full Dijkstra; among paths of
-    equal cost the one chosen may differ from SciPy's (ties broken by heap key, node index).
+    cell, i.e. Dijkstra): the 8 neighbours in the order of :data:`ASTAR_OFFSETS`
+    ``(d_row, d_col)``, whose move lengths are ``steps (8,)`` (m; else ``ValueError``).
+    Exact where settled: the goal's cost, and with ``goal = -1`` or an unreachable goal the
+    set of reachable cells, are those of a full Dijkstra; among paths of equal cost the one
+    chosen may differ from SciPy's (ties broken by heap key, node index).
     ``reuse``: the two arrays are the calling thread's kept workspace (the same values),
     valid until that thread's next ``reuse`` search. Runs without the GIL."""
+    steps = np.ascontiguousarray(steps, dtype=np.float64)
+    if steps.shape != (8,):
+        raise ValueError(f"steps must have shape (8,), got {steps.shape}")
     n = costs.size
     dist: NDArray[np.float64]
     pred: NDArray[np.int64]
@@ -1088,8 +1115,7 @@ def astar(
         np.ascontiguousarray(passable, dtype=np.bool_),
         int(start),
         int(goal),
-        np.ascontiguousarray(offsets, dtype=np.int64),
-        np.ascontiguousarray(steps, dtype=np.float64),
+        steps,
         float(neutral_cost),
         float(cost_factor) * 0.5,
         h_scale,
@@ -1775,10 +1801,7 @@ def warmup() -> float:
     rasterize(GridGeometry((4, 4), 0.25), discs=np.array([[0.5, 0.5, 0.3]]))
     for goal in (15, -1):
         for reuse in (False, True):
-            astar(
-                costs, costs == 0, 0, goal, np.array([[0, 1], [1, 1]]), np.ones(2), 50.0, 3.0,
-                0.1, reuse,
-            )  # fmt: skip
+            astar(costs, costs == 0, 0, goal, np.ones(8), 50.0, 3.0, 0.1, reuse)
     for dtype in (np.int64, np.int32):  # ours and SciPy's predecessors
         predecessor_chain(np.array([-1, 0], dtype=dtype), 0, 1)
     min_squared_distances(poses[:, -1:], np.zeros((1, 1, 2)), np.array([0], np.intp), out)

@@ -104,12 +104,6 @@ class ContextFile:
         )
         return [pid for _, pid in pairs]
 
-    def signature(self, social: SocialContext) -> tuple[int, int, int]:
-        """How many groups, queues and viewed artworks are in ``social`` (the planner's
-        objective set depends on them)."""
-        viewed = sum(1 for a in social.artworks if a.viewer_ids)
-        return (len(social.groups), len(social.queues), viewed)
-
 
 def load_context_file(path: str | Path, match_radius: float = 0.75) -> ContextFile:
     """Read and validate a context file; :class:`ConfigurationError` names file and field."""

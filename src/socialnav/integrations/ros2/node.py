@@ -46,10 +46,10 @@ Decisions:
   compiled search on a worker thread, its plan used two cycles later and planned from where
   the robot will be then, as Nav2 separates its planner and controller servers; a new goal
   or leaving the plan still replans inside the cycle).
-- The planner is rebuilt (``build_navigator``) on a new goal, a new map, a parameter change, when
-  the number of people in view changes between 0, 1, 2 and 3 or more, and when the groups,
-  queues or viewed artworks in view change (the objective set is fixed when a navigator is
-  built).
+- The planner is rebuilt (``build_navigator``) on a new goal, a new map or a parameter change,
+  and only then: its objective set follows the people, groups, queues and viewed artworks in
+  view every cycle, so people entering or leaving the view keep its global plan, social goal
+  and recovery state.
 - Weights (``path_distance_bias``, ``goal_distance_bias``, ``occdist_scale``, ``heading_scale``)
   and tolerances (``xy_goal_tolerance``, ``yaw_goal_tolerance``) may change at run time; every
   other parameter is read-only once declared.
@@ -324,7 +324,6 @@ class SocialNavNode(LifecycleNode):  # type: ignore[misc]
         self.goal: FloatArray | None = None
         self.navigator: Any = None
         self._dirty = True
-        self._people_signature: tuple[int, ...] = ()
         self._odom: tuple[FloatArray, FloatArray, float, Any] | None = None
         self._odom_rx = -math.inf
         self._people_rx = -math.inf
@@ -444,17 +443,16 @@ class SocialNavNode(LifecycleNode):  # type: ignore[misc]
         pose, velocity, t, stamp = self._odom
         start = wall.perf_counter()
         people = self.tracker.people(time=t)
-        signature: tuple[int, ...]
         if self.context_file is None and self.estimator is not None:
             social = self.estimator.update(t, people).context
-            signature = (min(len(people), 3), len(social.groups), len(social.queues))
         elif self.context_file is None:
             social = SocialContext(people)
-            signature = (min(len(people), 3),)
         else:
             social = self.context_file.resolve(people)
-            signature = (min(len(people), 3), *self.context_file.signature(social))
-        if self._dirty or self.navigator is None or signature != self._people_signature:
+        # Rebuilt only when what it was built for changes: its objective set follows the
+        # people in view every cycle, so people entering or leaving keep its global plan,
+        # social goal, recovery state and the replan in flight.
+        if self._dirty or self.navigator is None:
             self._close_navigator()  # its replan in flight is for the old configuration
             self.navigator = build_navigator(
                 str(self.values["planner"]),
@@ -467,7 +465,7 @@ class SocialNavNode(LifecycleNode):  # type: ignore[misc]
                 global_search="compiled",
                 replan_mode=self.values["replan_mode"],  # validated: one of the choices
             )
-            self._dirty, self._people_signature = False, signature
+            self._dirty = False
         result = self.navigator.step(t, pose, velocity, social)
         ms = (wall.perf_counter() - start) * 1e3
         self.cycle_ms = [*self.cycle_ms[-99:], ms]
