@@ -103,3 +103,21 @@ def test_hysteresis_must_be_non_negative():
 
         nav = navigator(pillar(3.0))
         Navigator(PR2, nav.local_planner, nav.costmap, GOAL, replan_hysteresis=-0.1)
+
+
+def test_the_final_approach_and_a_moved_end_point_are_always_replanned():
+    """Within the prune lookahead of the target the plan is always the fresh one (a kept stale
+    vertex beside the goal kept a PR2 circling its queue slot for 50 s: dev queue seed 10),
+    and so is a plan whose end moved (a target drifting by less than 5 cm)."""
+    costmap = pillar(3.0)  # the pillar far off the line: the straight plan is free
+    nav = navigator(costmap)
+    near_goal = np.array([2.5, 0.0, 0.0])
+    stale = np.array([[1.0, 0.0], [1.5, 0.3], [2.5, 0.0]])  # a detour, cheaper than 30 % more
+    assert path_cost(costmap, stale) <= 1.3 * 50.0 * 1.5
+    fresh = nav._compute_plan(START, near_goal, SocialContext(), False, stale)
+    assert fresh.path is not None and np.abs(fresh.path[:, 1]).max() < 0.1
+    far = np.array([[1.0, 0.0], [5.0, 0.3], [8.97, 0.0]])  # ends 3 cm short of the goal
+    moved = nav._compute_plan(START, GOAL, SocialContext(), False, far)
+    assert moved.path is not None and np.array_equal(moved.path[-1], GOAL[:2])
+    kept = nav._compute_plan(START, GOAL, SocialContext(), False, np.vstack([far[:-1], GOAL[:2]]))
+    assert kept.path is not None and np.abs(kept.path[:, 1]).max() > 0.2

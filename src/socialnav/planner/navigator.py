@@ -35,6 +35,15 @@ Decisions:
   after a failed plan left none) replans inline, as the step must react at once. With
   ``global_search="compiled"`` the search runs without the GIL, so the worker does not stall
   the control step (SciPy's Dijkstra holds it).
+- Replan hysteresis (``replan_hysteresis``, default 0: off; in the spirit of Nav2's
+  replanning, which keeps a valid path): a periodic replan keeps the current plan (pruned,
+  joined to the pose) unless the new one costs that fraction less on the *new* costmap
+  (:func:`~socialnav.planner.global_planner.path_cost`), so a plan around crossing people
+  stops flipping sides; a kept plan that became blocked costs ``inf`` and is replaced. Never
+  after a new target or a moved plan end, off the plan, while ``WAITING`` (that replan looks
+  for another way), or within ``prune_lookahead`` of the target (the final approach).
+- ``meeting_layer``: a global layer that also reads the plan's start pose (e.g. walkers'
+  personal space where the robot can meet them), applied after ``global_layer``.
 - The plan is pruned behind the robot: it starts at the plan vertex nearest the robot among the
   next ``prune_lookahead`` m of the plan (so a plan looping back is not skipped ahead).
 - The local window is ``window_size`` m square around the robot (``world.costmap.crop``; off-map
@@ -500,6 +509,12 @@ class Navigator:
             and previous.shape[0] >= 2
             and plan.status == "OK"
             and plan.path is not None
+            # Only a plan to the very same end point: a target that drifts (a queue's tail
+            # moving up by less than the 5 cm that counts as a new target) is followed.
+            and np.array_equal(previous[-1], plan.path[-1])
+            # Near the target the plan is the final approach, always fresh (a kept stale
+            # vertex beside the goal kept a PR2 circling its queue slot: dev queue seed 10).
+            and float(np.hypot(*(plan.path[-1] - pose[:2]))) > self.prune_lookahead
         ):
             kept = np.concatenate([pose[None, :2], self._prune(previous, pose)])
             old = path_cost(costmap, kept, pose[:2])
