@@ -1237,6 +1237,25 @@ def _scatter_cost(flat, e, m, amplitude, cutoff, out):  # type: ignore[no-untype
 _PROXEMIC_BATCH = 1 << 18  # cells per compiled pass (bounds the buffers: 4 MB)
 
 
+def _batches(
+    cells: NDArray[np.int64],
+) -> tuple[NDArray[np.int64], NDArray[np.float64], list[tuple[int, int]]]:
+    """Cell-index and exponent buffers for one compiled pass, and the window spans
+    ``[first, last)`` (in order) whose visited ``cells (K,)`` fit them together (a window
+    larger than the batch gets buffers of its own size)."""
+    size = int(max(_PROXEMIC_BATCH, cells.max()))
+    spans: list[tuple[int, int]] = []
+    first = 0
+    while first < len(cells):
+        last, total = first, 0
+        while last < len(cells) and total + cells[last] <= size:
+            total += int(cells[last])
+            last += 1
+        spans.append((first, last))
+        first = last
+    return np.empty(size, dtype=np.int64), np.empty(size), spans
+
+
 def proxemic_costs(
     geometry: GridGeometry,
     positions: NDArray[np.float64],
@@ -1272,15 +1291,8 @@ def proxemic_costs(
     threshold = log_ratio - 1e-6  # exp is monotone; the margin absorbs rounding
     ox, oy = geometry.origin
     flat_out = out.reshape(-1)
-    size = int(max(_PROXEMIC_BATCH, cells.max()))
-    flat = np.empty(size, dtype=np.int64)
-    expo = np.empty(size)
-    first = 0
-    while first < len(windows):
-        last, total = first, 0
-        while last < len(windows) and total + cells[last] <= size:
-            total += int(cells[last])
-            last += 1
+    flat, expo, spans = _batches(cells)
+    for first, last in spans:
         m = _proxemic_exponents(
             table, semi, first, last, float(ox), float(oy), res, int(geometry.shape[1]),
             float(variance), threshold, flat, expo,
@@ -1292,7 +1304,6 @@ def proxemic_costs(
             )  # fmt: skip
         e = np.exp(expo[:m], out=expo[:m])  # NumPy's exp, the reference's
         _scatter_cost(flat, e, m, float(amplitude), float(cutoff), flat_out)
-        first = last
     return out
 
 
@@ -1383,15 +1394,8 @@ def meeting_costs(
     samples = np.ascontiguousarray(samples, dtype=np.float64)
     ox, oy = geometry.origin
     flat_out = out.reshape(-1)
-    size = int(max(_PROXEMIC_BATCH, cells.max()))
-    flat = np.empty(size, dtype=np.int64)
-    expo = np.empty(size)
-    first = 0
-    while first < len(windows):
-        last, total = first, 0
-        while last < len(windows) and total + cells[last] <= size:
-            total += int(cells[last])
-            last += 1
+    flat, expo, spans = _batches(cells)
+    for first, last in spans:
         m = _meeting_exponents(
             table, samples, first, last, float(ox), float(oy), float(geometry.resolution),
             int(geometry.shape[1]), float(start[0]), float(start[1]), float(speed),
@@ -1404,7 +1408,6 @@ def meeting_costs(
             )  # fmt: skip
         e = np.exp(expo[:m], out=expo[:m])  # NumPy's exp, the reference's
         _scatter_cost(flat, e, m, float(amplitude), float(cutoff), flat_out)
-        first = last
     return out
 
 
