@@ -121,3 +121,21 @@ def test_the_final_approach_and_a_moved_end_point_are_always_replanned():
     assert moved.path is not None and np.array_equal(moved.path[-1], GOAL[:2])
     kept = nav._compute_plan(START, GOAL, SocialContext(), False, np.vstack([far[:-1], GOAL[:2]]))
     assert kept.path is not None and np.abs(kept.path[:, 1]).max() > 0.2
+
+
+def test_bug_a_kept_plan_never_passes_nearer_anyone_than_the_new_one():
+    """Paper suite hallway_overtake: a whole-path margin of 30 % let the plan stay 1.17 m
+    beside the walker being overtaken (the new plan kept 1.2 m). A kept plan whose worst
+    cell costs more than the new plan's is replaced, even when cheaper than the margin."""
+    costmap = pillar(3.0)
+    person = SocialContext((Person(1, (5.0, 0.9), (0.0, 0.0)),))
+    nav = navigator(costmap)
+    new = nav._compute_plan(START, GOAL, person, True)
+    assert new.path is not None
+    nearer = new.path + np.array([0.0, 0.1])  # the same way, 10 cm nearer the person
+    nearer[0], nearer[-1] = new.path[0], new.path[-1]
+    on_map = nav._with_people(nav.costmap, person, static=True)
+    layered = nav.global_layer(on_map, person)
+    assert path_cost(layered, nearer) <= 1.3 * path_cost(layered, new.path)  # in the margin
+    chosen = nav._compute_plan(START, GOAL, person, False, nearer)
+    assert chosen.path is not None and np.array_equal(chosen.path, new.path)

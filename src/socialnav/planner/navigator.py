@@ -38,8 +38,9 @@ Decisions:
 - Replan hysteresis (``replan_hysteresis``, default 0: off; in the spirit of Nav2's
   replanning, which keeps a valid path): a periodic replan keeps the current plan (pruned,
   joined to the pose) unless the new one costs that fraction less on the *new* costmap
-  (:func:`~socialnav.planner.global_planner.path_cost`), so a plan around crossing people
-  stops flipping sides; a kept plan that became blocked costs ``inf`` and is replaced. Never
+  (:func:`~socialnav.planner.global_planner.path_costs`) and its highest cell cost is no
+  higher than the new plan's (never nearer anyone), so a plan around crossing people stops
+  flipping sides; a kept plan that became blocked costs ``inf`` and is replaced. Never
   after a new target or a moved plan end, off the plan, while ``WAITING`` (that replan looks
   for another way), or within ``prune_lookahead`` of the target (the final approach).
 - ``meeting_layer``: a global layer that also reads the plan's start pose (e.g. walkers'
@@ -72,7 +73,7 @@ from socialnav.core.geometry import FloatArray, wrap_angle
 from socialnav.core.robot import RobotModel
 from socialnav.core.scene import SocialContext
 from socialnav.planner.context import PlanningContext
-from socialnav.planner.global_planner import GlobalPlan, GlobalSearch, path_cost, plan_path
+from socialnav.planner.global_planner import GlobalPlan, GlobalSearch, path_costs, plan_path
 from socialnav.planner.limits import CycleClock, enforce_limits
 from socialnav.planner.local_planner import PlannerResult, PlannerStatus
 from socialnav.planner.protocols import LocalPlannerProtocol
@@ -517,8 +518,12 @@ class Navigator:
             and float(np.hypot(*(plan.path[-1] - pose[:2]))) > self.prune_lookahead
         ):
             kept = np.concatenate([pose[None, :2], self._prune(previous, pose)])
-            old = path_cost(costmap, kept, pose[:2])
-            if old <= (1.0 + self.replan_hysteresis) * path_cost(costmap, plan.path, pose[:2]):
+            old, old_peak = path_costs(costmap, kept, pose[:2])
+            new, new_peak = path_costs(costmap, plan.path, pose[:2])
+            # Kept only if not clearly dearer and never nearer anyone at its worst point (a
+            # whole-path margin let an overtaking plan stay 1.17 m beside the walker: paper
+            # suite hallway_overtake).
+            if old <= (1.0 + self.replan_hysteresis) * new and old_peak <= new_peak:
                 return GlobalPlan(kept, "OK", old, plan.goal)
         return plan
 
