@@ -34,6 +34,30 @@ are skipped). Prints Markdown tables and writes them to ``benchmarks/out/context
    circles: 105 jittered circles (2–6 members, radius 0.6–1.5 m, σ 0.05 m, 10°, spacing
    jitter σ 0.15 rad; seed 0), found whole with GCFF's fixed stride and with the wide-circle
    merge (``FFormationParams.max_stride``, ``merge_facing``).
+
+   **The sequence at any frame spacing** (``--only spacing``; also part of the F-formation
+   section). The protocol, fixed and committed before its CoffeeBreak result was run:
+   (a) F-formation parameters from :func:`protocol_fit`: the best of a 1152-point grid
+   (:func:`protocol_grid`) on Synth's single frames with its headings quantised to the
+   heading step detected in CoffeeBreak's features (90°), objective the mean of F1 at
+   T = 2/3 and T = 1, fitted once; (b) the files' frames as a raw tracker reports them
+   (:func:`raw_tracks`: velocities are finite differences over Δt, no standing is assumed);
+   (c) the estimator online with ``velocity_source="positions"`` (its standing test from
+   the position history, :func:`socialnav.social.perception.estimator.history_velocity`,
+   with its a-priori values), hysteresis off; (d) scored on the people each frame lists
+   (a person coasted over a missed detection is dropped from a detected group before
+   scoring: the annotations cover listed people only); (e) Δt = 0.1, 0.4, 1 and 2 s, since
+   the files do not give it. Also shown: the same with the differenced velocities taken as
+   the tracks' own (the standing test before), hysteresis on, coasted people kept, the
+   earlier open-grid fit (whose grid was widened after a CoffeeBreak result), and a table of
+   how the result moves when each value of the standing test is changed alone (reported,
+   not used to choose).
+   **Dominant sets** (``--only dominant_sets``; also part of the F-formation section): the
+   second F-formation detector (:mod:`socialnav.social.perception.dominant_sets`, Hung &
+   Kröse 2011). Its protocol, fixed and committed before its CoffeeBreak result was run:
+   the best of :func:`dominant_sets_grid` (875 sets) on Synth's single frames with headings
+   quantised to the step detected in CoffeeBreak's features (90°), objective the mean of F1
+   at T = 2/3 and T = 1 (first in grid order on ties); CoffeeBreak then scored once with it.
 2. Queues: 400 generated scenes (seeds 1014/1015; the parameters were tuned on 14/15), 2–8
    members, spacing 0.6–1.1 m, lateral bends up to 0.4 m, any orientation, position noise
    σ 0.1 m, heading noise σ 15°, with and without a desk (a service point from the map); a
@@ -71,6 +95,7 @@ from socialnav.crowds.fformations import (
 from socialnav.metrics.groups import PairCounts, group_detection_scores, pairwise_scores
 from socialnav.sim.perception import PerceptionNoise
 from socialnav.social.perception import ContextEstimator, EstimatorParams, MapKnowledge, gcff_kernel
+from socialnav.social.perception.dominant_sets import DominantSetsParams, dominant_sets
 from socialnav.social.perception.estimator import estimate_once
 from socialnav.social.perception.fformations import FFormationParams, facility_location, gcff
 from socialnav.social.perception.tracking import HysteresisParams
@@ -366,6 +391,11 @@ def fformation_section(fit: bool, bound: bool = False) -> None:
                 scores = f"{s.precision:.3f} | {s.recall:.3f} | {s.f1:.3f}"
                 on = "on" if hysteresis else "off"
                 emit(f"| {name} | {dt:g} s | {on} | {variant} | {label} | {scores} |")
+    cb_step = steps["CoffeeBreak_Seq1"]
+    open_fit = next((p for v, p in coarse.get(cb_step, {}).items() if "open grid" in v), None)
+    gcff_protocol = protocol_fit(frames["Synth"], cb_step)
+    spacing_section(frames, open_fit, gcff_protocol)
+    dominant_sets_section(frames, gcff_protocol)
     circle_section()
     suite_group_section()
 
@@ -442,6 +472,336 @@ def detect_sequence(
         found = e.structures if hysteresis else e.candidates
         out.append([list(s.members) for s in found if s.kind == "fformation"])
     return out
+
+
+def raw_tracks(frames, dt: float, scene: int | None) -> list[list[Person]]:
+    """The people of every frame as a raw tracker reports them at a frame spacing ``dt`` (s):
+    the file's positions and headings, velocities the finite differences of an id's
+    consecutive positions over ``dt`` (zero on its first frame, after a gap, and at a new
+    scene of ``scene`` frames)."""
+    out, last = [], {}
+    for i, (rows, _) in enumerate(frames):
+        if scene and i % scene == 0:
+            last = {}
+        here = {}
+        people = []
+        for r in rows:
+            pid, xy = int(r[0]), np.array(r[1:3], dtype=float)
+            prev = last.get(pid)
+            v = (0.0, 0.0) if prev is None else tuple((xy - prev) / dt)
+            people.append(Person(pid, (float(xy[0]), float(xy[1])), v, float(r[3])))
+            here[pid] = xy
+        out.append(people)
+        last = here
+    return out
+
+
+def detect_online(
+    frames,
+    dt: float,
+    scene: int | None,
+    hysteresis: bool,
+    fformation: dict | None,
+    velocity_source: str,
+    listed_only: bool,
+    standing: dict | None = None,
+) -> list[list[list[int]]]:
+    """F-formations of every frame from :func:`raw_tracks` at spacing ``dt`` through the
+    estimator online (pipeline reduced to the F-formation detector, reset every ``scene``
+    frames), with ``velocity_source`` (``measured``: the finite differences are taken as the
+    tracker's velocities; ``positions``: the estimator's own least-squares test). With
+    ``listed_only`` a detected group keeps only the people the frame lists (people coasted
+    over a missed detection are dropped before scoring: the annotations cover the listed
+    people only, and how many frames a 0.6 s coast spans depends on ``dt``). ``standing``:
+    overrides of the standing test's :class:`EstimatorParams` fields."""
+    hyst = HysteresisParams() if hysteresis else HysteresisParams(0.0, on=0.0, off=0.0)
+    params = EstimatorParams(
+        pipeline=("fformation",),
+        hysteresis=hyst,
+        detector_params={"fformation": fformation or {}},
+        velocity_source=velocity_source,  # type: ignore[arg-type]
+        **(standing or {}),
+    )
+    est = ContextEstimator(params=params)
+    out = []
+    for i, people in enumerate(raw_tracks(frames, dt, scene)):
+        if scene and i % scene == 0:
+            est.reset()
+        e = est.update(i * dt, people)
+        listed = {p.id for p in people}
+        found = e.structures if hysteresis else e.candidates
+        groups = [
+            [m for m in s.members if not listed_only or m in listed]
+            for s in found
+            if s.kind == "fformation"
+        ]
+        out.append([g for g in groups if len(g) > 1])
+    return out
+
+
+SPACINGS = (0.1, 0.4, 1.0, 2.0)  # s: the files do not say; the result must not depend on it
+
+
+def spacing_section(
+    frames, coarse_params: FFormationParams | None, protocol: FFormationParams | None = None
+) -> None:
+    """The sequence protocol, fixed before CoffeeBreak was run with it: raw tracks
+    (:func:`raw_tracks`) at every spacing of :data:`SPACINGS`; the estimator online with its
+    standing test from the position history (``velocity_source="positions"``, its a-priori
+    defaults: 1 s window, at least 3 samples, 0.05 m jitter floor, z = 2); F-formation
+    parameters the defaults, or, for CoffeeBreak's 90° headings, the open-grid set fitted once
+    on Synth with its headings quantised to the detected step (single frames, mean F1 of
+    T = 2/3 and T = 1); scored on the people each frame lists (and, for comparison, with
+    coasted people kept). The ``measured`` rows take the finite differences as velocities:
+    what the standing test did before."""
+    emit(
+        "\n## F-formations over the sequence at any frame spacing (raw tracks: velocities "
+        "are finite differences)\n"
+    )
+    emit(
+        "The files number their frames and do not give the time between them, so the table "
+        "covers Δt = " + ", ".join(f"{d:g}" for d in SPACINGS) + " s. T = 2/3 unless said; "
+        "'listed' scores the people the frame lists, 'all' keeps people coasted over a missed "
+        "detection (0.6 s: only Δt ≤ 0.6 s coasts)."
+    )
+    emit("")
+    head = " | ".join(f"Δt {d:g} s" for d in SPACINGS)
+    emit(f"| data | F-formation parameters | standing test | hysteresis | scored | {head} |")
+    emit("|---|---|---|---|---|" + "---|" * len(SPACINGS))
+    rows: list[tuple[str, str, dict | None]] = [("Synth", "defaults", None)]
+    if protocol is not None:
+        for name in ("Synth", "CoffeeBreak_Seq1"):
+            rows.append((name, "**protocol fit** (Synth quantised to 90°)", asdict(protocol)))
+    if coarse_params is not None:
+        rows.append(("Synth", "fitted on Synth quantised to 90°", asdict(coarse_params)))
+        rows.append(("CoffeeBreak_Seq1", "fitted on Synth quantised to 90°", asdict(coarse_params)))
+    rows.append(("CoffeeBreak_Seq1", "defaults", None))
+    for name, variant, overrides in rows:
+        fr, truth = frames[name], [t for _, t in frames[name]]
+        scene = SYNTH_SCENE if name == "Synth" else None
+        for source, hysteresis, listed in (
+            ("measured", False, True),
+            ("positions", False, True),
+            ("positions", True, True),
+            ("positions", False, False),
+        ):
+            cells = []
+            for dt in SPACINGS:
+                det = detect_online(fr, dt, scene, hysteresis, overrides, source, listed)
+                s = group_detection_scores(det, truth, 2 / 3)
+                cells.append(f"{s.precision:.3f} / {s.recall:.3f} / **{s.f1:.3f}**")
+            test = "finite differences (before)" if source == "measured" else "least squares"
+            emit(
+                f"| {name} | {variant} | {test} | {'on' if hysteresis else 'off'} | "
+                f"{'listed' if listed else 'all'} | {' | '.join(cells)} |"
+            )
+    emit("\nCells: precision / recall / **F1** at T = 2/3.")
+    if protocol is not None:
+        cb, truth = frames["CoffeeBreak_Seq1"], [t for _, t in frames["CoffeeBreak_Seq1"]]
+        s = group_detection_scores(detect_frames(cb, protocol), truth, 2 / 3)
+        emit(
+            f"\nThe protocol fit on CoffeeBreak's single frames: {s.precision:.3f} / "
+            f"{s.recall:.3f} / **{s.f1:.3f}**."
+        )
+        sensitivity_section(frames["CoffeeBreak_Seq1"], asdict(protocol), "protocol fit")
+    if coarse_params is not None:
+        sensitivity_section(frames["CoffeeBreak_Seq1"], asdict(coarse_params), "open-grid fit")
+
+
+#: The standing test's a-priori values and the alternatives of the sensitivity table.
+STANDING_ALTERNATIVES = {
+    "velocity_window": (0.5, 2.0),
+    "leave_distance": (0.0, 0.3, 0.7),
+    "motion_z": (1.0, 3.0),
+    "position_jitter": (0.02, 0.1),
+}
+
+
+def sensitivity_section(frames, overrides: dict, label: str) -> None:
+    """How much the CoffeeBreak sequence result (hysteresis off, people listed) owes to the
+    standing test's a-priori values: each changed alone, F1 at T = 2/3 per spacing and the
+    worst. Reported, not used to choose (the values were fixed before, see
+    :class:`EstimatorParams`)."""
+    truth = [t for _, t in frames]
+    emit(
+        f"\n## Sensitivity of the CoffeeBreak sequence F1 to the standing test ({label}; "
+        "reported, not a fit)\n"
+    )
+    head = " | ".join(f"Δt {d:g} s" for d in SPACINGS)
+    emit(f"| standing test | {head} | worst |")
+    emit("|---|" + "---|" * len(SPACINGS) + "---|")
+    cases: list[tuple[str, dict]] = [("a-priori values (1 s, 0.5 m, z 2, 0.05 m)", {})]
+    cases += [(f"{k} = {v:g}", {k: v}) for k, vs in STANDING_ALTERNATIVES.items() for v in vs]
+    for case, standing in cases:
+        f1 = [
+            group_detection_scores(
+                detect_online(frames, dt, None, False, overrides, "positions", True, standing),
+                truth,
+                2 / 3,
+            ).f1
+            for dt in SPACINGS
+        ]
+        emit(f"| {case} | " + " | ".join(f"{x:.3f}" for x in f1) + f" | {min(f1):.3f} |")
+
+
+def protocol_grid(step: float) -> list[FFormationParams]:
+    """The fit protocol's grid, fixed before its result on CoffeeBreak was seen: every
+    combination of stride D 0.3–0.8 m (0.1 m steps: Kendon's o-space, a person's distance
+    to the centre of the conversation they face, for pairs to circles of about 1.5 m), σ
+    0.10–0.25 m, ``sigma_along`` 1–4 σ, mdl 9, 16, 25, 36 (a joining vote within 3–6 σ) and
+    a heading tolerance of 0, ``step / 4`` and ``step / 2`` (a heading known to the nearest
+    multiple of ``step`` is off by at most half of it). Other parameters are the defaults."""
+    return [
+        FFormationParams(
+            stride=stride,
+            sigma=sigma,
+            sigma_along=ratio * sigma,
+            mdl=mdl,
+            heading_tolerance=float(tolerance * step),
+        )
+        for stride, sigma, ratio, mdl, tolerance in itertools.product(
+            (0.3, 0.4, 0.5, 0.6, 0.7, 0.8),
+            (0.1, 0.15, 0.2, 0.25),
+            (1, 2, 3, 4),
+            (9, 16, 25, 36),
+            (0.0, 0.25, 0.5),
+        )
+    ]
+
+
+def protocol_fit(synth, step: float) -> FFormationParams:
+    """The fit protocol: Synth's headings quantised to ``step`` (rad: the step
+    :func:`~socialnav.crowds.fformations.heading_step` detects in the held-out file's
+    headings, a property of its features, never its labels), single frames, objective the
+    mean of F1 at T = 2/3 and T = 1 (:func:`mean_f1`), the best of :func:`protocol_grid`
+    (the first in grid order on ties). Run once; the held-out data are then scored once."""
+    q = quantise_headings(synth, step)
+    grid = protocol_grid(step)
+    scores = [mean_f1(q, p) for p in grid]
+    best = int(np.argmax(scores))
+    p = grid[best]
+    emit(
+        f"protocol fit on Synth quantised to {np.degrees(step):g}° ({len(grid)} sets, mean F1 "
+        f"of T=2/3 and T=1 = {scores[best]:.3f}): stride {p.stride:g} m, σ {p.sigma:g} m, "
+        f"sigma_along {p.sigma_along:g} m, mdl {p.mdl:g}, heading tolerance "
+        f"{np.degrees(p.heading_tolerance):g}°"
+    )
+    return p
+
+
+def spacing_only() -> None:
+    """``--only spacing``: the fit of the protocol (once, on Synth quantised to CoffeeBreak's
+    detected heading step) and :func:`spacing_section`, without the other F-formation rows."""
+    sets = {n: DATA / "fformations" / n for n in ("Synth", "CoffeeBreak_Seq1")}
+    if not all(p.exists() for p in sets.values()):
+        emit("F-formation data not found: skipped")
+        return
+    frames = {n: load_fformations(p) for n, p in sets.items()}
+    step = heading_step(np.concatenate([rows[:, 3] for rows, _ in frames["CoffeeBreak_Seq1"]]))
+    label = f"Synth quantised to {np.degrees(step):g}°"
+    q = quantise_headings(frames["Synth"], step)
+    fitted = fit_on_synth(q, (1, 2, 3, 4), max(30.0, np.degrees(step) / 2), label + " (open grid)")
+    spacing_section(frames, fitted, protocol_fit(frames["Synth"], step))
+
+
+# --- 1b. F-formations as dominant sets ---------------------------------------------------------
+
+
+def dominant_sets_grid() -> list[DominantSetsParams]:
+    """The dominant-sets fit protocol's grid, fixed and committed before its CoffeeBreak result
+    was run: proximity scale σ_d 0.4–1.2 m (conversational distances, Hall's personal to
+    social zone), heading reliability ρ 0–1 in quarters, stride D 0.4, 0.6, 0.8 m and vote
+    scale σ_o 0.3, 0.6 m (ignored, so taken once, at ρ = 0), minimum cohesion 0.1–0.7. Other
+    parameters are the a-priori defaults of :class:`DominantSetsParams`."""
+    out = []
+    for sd, rho, stride, sv, c in itertools.product(
+        (0.4, 0.6, 0.8, 1.0, 1.2),
+        (0.0, 0.25, 0.5, 0.75, 1.0),
+        (0.4, 0.6, 0.8),
+        (0.3, 0.6),
+        (0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7),
+    ):
+        if rho == 0.0 and (stride, sv) != (0.4, 0.3):
+            continue  # the heading term is off: stride and σ_o do not matter
+        p = DominantSetsParams(
+            sigma_distance=sd, reliability=rho, stride=stride, sigma_vote=sv, min_cohesion=c
+        )
+        out.append(p)
+    return out
+
+
+def detect_frames_ds(frames, params: DominantSetsParams) -> list[list[list[int]]]:
+    """Dominant sets of every frame alone (:func:`dominant_sets`)."""
+    out = []
+    for rows, _ in frames:
+        ids = rows[:, 0].astype(int)
+        found = dominant_sets(rows[:, 1:3], rows[:, 3], params)
+        out.append([ids[g].tolist() for g, _ in found])
+    return out
+
+
+def ds_mean_f1(frames, params: DominantSetsParams) -> float:
+    """The objective: the mean of F1 at T = 2/3 and T = 1, single frames."""
+    det, truth = detect_frames_ds(frames, params), [t for _, t in frames]
+    return sum(group_detection_scores(det, truth, t).f1 for t in (2 / 3, 1.0)) / 2
+
+
+def dominant_sets_fit(synth, step: float) -> tuple[DominantSetsParams, float]:
+    """The dominant-sets protocol: Synth's headings quantised to ``step`` (rad, detected in the
+    held-out file's features, never its labels), single frames, objective :func:`ds_mean_f1`,
+    the best of :func:`dominant_sets_grid` (first in grid order on ties). Returns the set and
+    its objective."""
+    q = quantise_headings(synth, step)
+    grid = dominant_sets_grid()
+    scores = [ds_mean_f1(q, p) for p in grid]
+    best = int(np.argmax(scores))
+    return grid[best], scores[best]
+
+
+def dominant_sets_section(frames, gcff_protocol: FFormationParams | None = None) -> None:
+    """F-formations as dominant sets (:mod:`socialnav.social.perception.dominant_sets`):
+    the protocol fit (:func:`dominant_sets_fit`, on Synth quantised to CoffeeBreak's detected
+    heading step) scored on Synth, Synth quantised, and CoffeeBreak (held out, run once with
+    the fitted set), single frames; with ``gcff_protocol`` (GCFF's :func:`protocol_fit`, the
+    same protocol) GCFF's rows beside them."""
+    cb = frames["CoffeeBreak_Seq1"]
+    step = heading_step(np.concatenate([rows[:, 3] for rows, _ in cb]))
+    p, objective = dominant_sets_fit(frames["Synth"], step)
+    emit(
+        f"\n## F-formations as dominant sets (Hung & Kröse 2011; single frames)\n\n"
+        f"Protocol fit on Synth quantised to {np.degrees(step):g}° ({len(dominant_sets_grid())} "
+        f"sets, mean F1 of T=2/3 and T=1 = {objective:.3f}): σ_d {p.sigma_distance:g} m, "
+        f"ρ {p.reliability:g}, stride {p.stride:g} m, σ_o {p.sigma_vote:g} m, min cohesion "
+        f"{p.min_cohesion:g}.\n"
+    )
+    emit("| data | parameters | frames | T | precision | recall | F1 |")
+    emit("|---|---|---|---|---|---|---|")
+    data = {
+        "Synth": frames["Synth"],
+        f"Synth, headings quantised to {np.degrees(step):g}°": quantise_headings(
+            frames["Synth"], step
+        ),
+        "CoffeeBreak_Seq1 (held out)": cb,
+    }
+    for name, fr in data.items():
+        truth = [t for _, t in fr]
+        runs = [("dominant sets, protocol fit", detect_frames_ds(fr, p))]
+        if gcff_protocol is not None:
+            runs.append(("GCFF, its protocol fit", detect_frames(fr, gcff_protocol)))
+        for variant, det in runs:
+            for label, t in (("2/3", 2 / 3), ("1", 1.0)):
+                s = group_detection_scores(det, truth, t)
+                scores = f"{s.precision:.3f} | {s.recall:.3f} | {s.f1:.3f}"
+                emit(f"| {name} | {variant} | {s.frames} | {label} | {scores} |")
+
+
+def dominant_sets_only() -> None:
+    """``--only dominant_sets``: :func:`dominant_sets_section` alone."""
+    sets = {n: DATA / "fformations" / n for n in ("Synth", "CoffeeBreak_Seq1")}
+    if not all(p.exists() for p in sets.values()):
+        emit("F-formation data not found: skipped")
+        return
+    dominant_sets_section({n: load_fformations(p) for n, p in sets.items()})
 
 
 def jittered_circles(seed: int = 0) -> list[tuple[int, float, np.ndarray, np.ndarray]]:
@@ -707,13 +1067,17 @@ def main() -> None:
     parser.add_argument("--queue-scenes", type=int, default=200)
     parser.add_argument(
         "--only",
-        choices=("fformations", "queues", "walking", "time"),
+        choices=("fformations", "spacing", "dominant_sets", "queues", "walking", "time"),
         help="one section (fformations: F-formation precision, recall and F1 at match "
         "threshold T; see the module docstring)",
     )
     args = parser.parse_args()
     if args.only in (None, "fformations"):
         fformation_section(args.fit, args.bound)
+    if args.only == "spacing":
+        spacing_only()
+    if args.only == "dominant_sets":
+        dominant_sets_only()
     if args.only in (None, "queues"):
         queue_section(args.queue_scenes)
     if args.only in (None, "walking"):

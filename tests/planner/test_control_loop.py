@@ -196,3 +196,29 @@ def test_a_person_walking_straight_at_the_robot_is_evaded(robot):
         assert any(abs(c[1]) > 0.1 for c in evading)  # sideways
     else:
         assert all(c[1] == 0.0 for c in evading) and any(abs(c[2]) > 0.1 for c in evading)
+
+
+def _paired_walkers_and_bystander(t: float) -> SocialContext:
+    """Generated hallway dev seed 10 (2.6 m corridor, y in [0, 2.6]): two people side by side
+    walk at 0.785 m/s toward the robot, a third stands near the lower wall."""
+    pair = tuple(
+        Person(k, (12.545 - 0.785 * t, y), (-0.785, 0.0), np.pi)
+        for k, y in ((1, 1.298), (2, 2.036))
+    )
+    return SocialContext((*pair, Person(3, (5.66, 0.68), yaw=np.pi)))
+
+
+@pytest.mark.parametrize("robot", [PR2, PIONEER])
+def test_bug_robot_steps_out_of_a_walking_pairs_lane_before_they_arrive(robot):
+    """Generated hallway dev seed 10, both robots: the walking pair left room only beside the
+    bystander; the loop evaded too late (time to collision below 3 s) and with moves judged
+    over 3 s, so the robot stood in the pair's lane (backing up at 0.14 m/s) and was hit.
+    paccet's loop (``RECOMMENDED_RECOVERY``) triggers on the closest approach within 6 s and
+    judges moves that step aside and hold over the whole encounter."""
+    walls = [[[0.0, 0.0], [13.77, 0.0]], [[0.0, 2.6], [13.77, 2.6]]]
+    cm, _ = world(13.77, 2.6, walls, robot)
+    goal = np.array([11.77, 1.344, 0.0])
+    nav = build_navigator("paccet", robot, cm, goal, _paired_walkers_and_bystander(0.0))
+    trace = loop(nav, robot, (3.0, 1.344, 0.0), _paired_walkers_and_bystander, 600)
+    assert min(trace["gap"]) > 0.0
+    assert trace["status"][-1] == PlannerStatus.GOAL_REACHED

@@ -18,7 +18,19 @@ Behaviour (parameters in :class:`RecoveryParams`, ROS/Nav2 names, budgets in sec
   ``evasion_ttc`` s and
   the person walks faster than ``evasion_min_person_speed``, the robot takes the evasive twist
   of :mod:`socialnav.planner.evasion` that keeps the largest gap over ``evasion_horizon`` s —
-  when it keeps a larger gap than the planner's own command.
+  when it keeps a larger gap than the planner's own command. Two additions (off by default:
+  the ROS stack has neither; the ``paccet`` preset turns both on):
+  (1) the same evasion when a walker's closest approach under the chosen command (both at
+  constant velocity) comes within ``evasion_personal_distance`` m (the 1.2 m personal space)
+  inside ``evasion_personal_time`` s;
+  (2) *giving way* (``evasion_hold_step`` > 0): each evasive twist is also tried driven for
+  1, 2, … ``evasion_hold_step`` s and then held still, over the encounter (until the
+  triggering walkers pass the robot standing still, ``evasion_horizon`` to
+  ``evasion_max_horizon`` s), against everyone in view (bystanders too). The gap to each
+  person saturates at the personal distance, so every move that keeps everyone clear ties
+  and the one ending nearest the goal wins — the planner's own command when it is clear,
+  which ends the evasion. A robot thus leaves a walker's lane and waits beside it, instead of
+  backing up in it or stepping aside only as far as 3 s of constant twist show.
 - **Waiting** (status ``WAITING``, zero command; the navigator decelerates it within the
   acceleration limits and replans): when no trajectory is legal, or the legal ones make no
   progress, and a person blocks: within ``person_blocking_distance`` m (footprint circle to
@@ -51,7 +63,15 @@ from socialnav.core.trajectories import Trajectories
 from socialnav.planner.context import PlanningContext
 from socialnav.planner.critics.interpersonal import approaches
 from socialnav.planner.critics.occupancy import OccupancyCritic
-from socialnav.planner.evasion import evasion_gaps, evasion_twists, time_to_collision
+from socialnav.planner.evasion import (
+    closest_approach,
+    evasion_gaps,
+    evasion_twists,
+    move_and_hold,
+    person_gap_minima,
+    squared_distance_minima,
+    time_to_collision,
+)
 from socialnav.planner.limits import CycleClock
 from socialnav.planner.local_planner import PlannerResult, PlannerStatus
 from socialnav.planner.protocols import LocalPlannerProtocol
@@ -92,6 +112,10 @@ class RecoveryParams:
     evasion_ttc: float = 3.0
     evasion_horizon: float = 3.0
     evasion_min_person_speed: float = 0.3
+    evasion_personal_distance: float = 0.0  # off (the ROS stack has no such rule); paccet 1.2
+    evasion_personal_time: float = 4.0
+    evasion_hold_step: float = 0.0  # off: constant twists over evasion_horizon; paccet 1.0
+    evasion_max_horizon: float = 8.0
 
     def __post_init__(self) -> None:
         for f in fields(self):
@@ -268,10 +292,22 @@ class RecoveringPlanner:
         pos, vel, radii = pos[sel], vel[sel], radii[sel]
         own = body_to_world_velocity(ctx.pose, result.cmd)
         ttc = time_to_collision(ctx.pose[:2], own, pos, vel, radii + r.circumscribed_radius)
-        if float(ttc.min()) >= p.evasion_ttc:
+        # Personal-space trigger (an addition to time-to-collision methods): a walker whose
+        # closest approach under this command falls inside evasion_personal_distance within
+        # evasion_personal_time s.
+        trigger = ttc < p.evasion_ttc
+        if p.evasion_personal_distance > 0:
+            cpa, t_cpa = closest_approach(ctx.pose[:2], own, pos, vel)
+            trigger |= (cpa < p.evasion_personal_distance) & (t_cpa < p.evasion_personal_time)
+        if not trigger.any():
             return None
+        if p.evasion_hold_step > 0:
+            return self._give_way(ctx, result, sel, trigger, ttc)
+        horizon = p.evasion_horizon
+        if float(ttc.min()) >= p.evasion_ttc:
+            horizon = max(horizon, p.evasion_personal_time)
         twists = np.concatenate([result.cmd[None], np.zeros((1, 3)), evasion_twists(r)])
-        gaps, trajs = evasion_gaps(ctx.pose, twists, r, pos, vel, radii, p.evasion_horizon)
+        gaps, trajs = evasion_gaps(ctx.pose, twists, r, pos, vel, radii, horizon)
         static = self._static_ok(ctx, trajs)
         if not static[1:].any():
             return None
@@ -292,6 +328,49 @@ class RecoveringPlanner:
         why = f"evading person {people[who].id} (time to collision {float(ttc.min()):.2f} s)"
         return self._out(twists[k].copy(), PlannerStatus.EVADING, result.record, why)
 
+    def _give_way(
+        self,
+        ctx: PlanningContext,
+        result: PlannerResult,
+        sel: np.ndarray,
+        trigger: np.ndarray,
+        ttc: FloatArray,
+    ) -> PlannerResult | None:
+        """Give way to the walkers ``sel`` (``trigger`` among them set it off): move out of
+        their lanes and hold there, judged over the whole encounter against everyone
+        (standing people included: the lane beside a walker may be beside a bystander too)."""
+        p, r = self.params, self.robot
+        pos, vel = ctx.social.positions(), ctx.social.velocities()
+        radii = ctx.social.radii()
+        # The encounter lasts until the triggering walkers pass the robot standing still.
+        walkers = np.flatnonzero(sel)[trigger]
+        _, t_pass = closest_approach(ctx.pose[:2], np.zeros(2), pos[walkers], vel[walkers])
+        horizon = float(
+            np.clip(t_pass.max() + p.evasion_hold_step, p.evasion_horizon, p.evasion_max_horizon)
+        )
+        twists = np.concatenate([result.cmd[None], np.zeros((1, 3)), evasion_twists(r, arcs=True)])
+        base = rollout(ctx.pose, np.zeros(3), twists, r, RolloutParams(horizon, 0.05, 0.1))
+        taus = np.append(np.arange(p.evasion_hold_step, horizon, p.evasion_hold_step), horizon)
+        trajs = move_and_hold(base, taus)
+        own = np.tile(np.arange(len(twists)) == 0, taus.size)
+        # Saturated at the personal distance: every move that keeps every walker clear ties,
+        # and the one with the most progress wins, so evasion ends as soon as the walkers'
+        # closest approach is clear (the planner's own command wins the tie: no evasion).
+        clear = max(p.evasion_personal_distance, 0.0) - radii - r.circumscribed_radius
+        gaps = np.minimum(person_gap_minima(trajs, r, pos, vel, radii), clear[None]).min(axis=1)
+        legal = self._static_ok(ctx, trajs) & ~self._approaching(ctx, trajs)
+        if not legal[~own].any():
+            return None
+        gaps = np.where(legal, gaps, -np.inf)
+        progress = -np.hypot(*(trajs.end_poses[:, :2] - ctx.goal[:2]).T)
+        tied = gaps >= float(gaps.max()) - 0.05
+        k = int(np.argmax(np.where(tied, progress, -np.inf)))
+        if own[k] or gaps[k] <= float(gaps[own].max()) + 1e-3:
+            return None  # the planner's own command keeps as much clearance
+        who = ctx.social.people[int(walkers[int(np.argmin(ttc[trigger]))])]
+        why = f"giving way to person {who.id} (gap {float(gaps[k]):.2f} m over {horizon:.1f} s)"
+        return self._out(trajs.twists[k].copy(), PlannerStatus.EVADING, result.record, why)
+
     def _approaching(self, ctx: PlanningContext, trajs: Trajectories) -> np.ndarray:
         """``(N,)`` rollouts moving toward a person they touch (``critics.interpersonal``)
         within the first ``APPROACH_HORIZON`` s: the loop replans every cycle, and beyond that
@@ -301,7 +380,7 @@ class RecoveringPlanner:
         trajs = Trajectories(trajs.twists, trajs.poses[:, keep], trajs.t[keep])
         contact = ctx.social.radii() + self.robot.circumscribed_radius
         forecast = ctx.people_at(trajs.t)  # (T, K, 2)
-        d2 = ((trajs.xy[:, :, None, :] - forecast[None]) ** 2).sum(axis=-1).min(axis=1)
+        d2 = squared_distance_minima(trajs, forecast)
         return approaches(trajs, ctx, d2, contact, APPROACH_SPEED)
 
     def _static_ok(self, ctx: PlanningContext, trajs: Trajectories) -> np.ndarray:

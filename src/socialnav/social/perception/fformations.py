@@ -70,11 +70,18 @@ fitted the same way on Synth with its headings quantised to that step: for four 
 ``sigma_along`` 0.15, ``mdl`` 25, ``heading_tolerance`` 40° (``bench_context.py``, with
 ``sigma_along`` from σ and the tolerance up to half the step; the defaults' grid keeps
 ``sigma_along >= 3σ`` and leaves CoffeeBreak where it was). Widening σ and ``merge_facing``
-by the quantisation error instead, without refitting, does worse on both data sets.
+by the quantisation error instead, without refitting, does worse on both data sets. The fit
+protocol of ``bench_context.py`` (``protocol_grid``: every combination of ``stride``
+0.3–0.8 m, ``sigma`` 0.10–0.25 m, ``sigma_along`` 1–4 σ, ``mdl`` 9–36 and a tolerance of 0,
+a quarter or half the step; fixed before its held-out result was seen) gives ``stride`` 0.5,
+``sigma`` 0.1, ``sigma_along`` 0.2, ``mdl`` 25, ``heading_tolerance`` 22.5° for a 90° step.
 
 Output: groups of at least two members with o-space centre (the fitted centre), radius (the mean
 member distance to it) and a score ``1 − mean cost / mdl`` in [0, 1]: the margin by which
 joining beats standing alone (1: every vote on the centre; 0: no better than alone).
+
+An alternative detector of the same candidates, dominant sets with headings as soft evidence
+(Hung & Kröse 2011), is :mod:`socialnav.social.perception.dominant_sets` (``dominant_sets``).
 """
 
 from __future__ import annotations
