@@ -5,9 +5,9 @@ Run: ``.venv/bin/python benchmarks/bench_replan.py [--quick]``.
 
 Setup (seeded, as ``bench_crowd_step.py``): the 27 m × 27 m room of the paper suite's
 group/queue scenes (540 × 540 cells at 0.05 m), the ``paccet`` navigator's global stack
-(``Navigator._compute_plan``: people as obstacle discs, the standing people's personal space
-and the walkers' where the robot can meet them (``standing_space_layer``,
-``meeting_space_layer``), plan with navfn's tolerance), the PR2 at (3, 3) planning to
+(``Navigator._compute_plan``: people as obstacle discs; with the meeting layer option, the
+standing people's personal space and the walkers' where the robot can meet them
+(``meeting_layers``), plan with navfn's tolerance), the PR2 at (3, 3) planning to
 (24, 24) and to (12, 8) (a near goal: the compiled search stops there); 50 people walking
 at 0.5–1.3 m/s, the fastest one at ``fast`` m/s (1, 3, 5 and 10: the cost must not grow with
 it).
@@ -35,6 +35,7 @@ from socialnav.planner.global_planner import plan_path
 from socialnav.planner.presets import (
     MEETING_LAYER,
     build_navigator,
+    meeting_layers,
     meeting_space_layer,
     personal_space_layer,
     standing_space_layer,
@@ -74,6 +75,8 @@ def main(quick: bool = False) -> None:
                 )
                 for search in ("scipy", "compiled")
             }
+            for nav in navs.values():  # the meeting layer option (PlannerPreset.meeting_layer)
+                nav.global_layer, nav.meeting_layer = meeting_layers(PR2)
             tol = 0.5 * PR2.circumscribed_radius
             # The global layer before the meeting layer: every person where they are now.
             now = build_navigator("paccet", PR2, costmap, goal, SocialContext())

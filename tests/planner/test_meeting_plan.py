@@ -1,5 +1,5 @@
-"""The global plan goes around walkers where the robot will meet them (``paccet``'s meeting
-layer), not where they are now."""
+"""With the meeting layer (``PlannerPreset.meeting_layer``) the global plan goes around
+walkers where the robot will meet them, not where they are now."""
 
 from __future__ import annotations
 
@@ -8,7 +8,7 @@ import pytest
 
 from socialnav.core.robot import PIONEER, PR2
 from socialnav.core.scene import Person, SocialContext
-from socialnav.planner.presets import build_navigator, personal_space_layer
+from socialnav.planner.presets import build_navigator, meeting_layers, personal_space_layer
 from socialnav.world.grid import Costmap, GridGeometry
 
 ROOM = Costmap(np.zeros((200, 200), np.uint8), GridGeometry((200, 200), 0.05, (-5.0, -5.0)))
@@ -19,6 +19,7 @@ GOAL = np.array([0.0, 4.0, np.pi / 2])
 def plans(robot, social: SocialContext) -> tuple[np.ndarray, np.ndarray]:
     """(meeting-layer plan, plan with every walker's space where they are now), ``(P, 2)``."""
     nav = build_navigator("paccet", robot, ROOM, GOAL, SocialContext())
+    nav.global_layer, nav.meeting_layer = meeting_layers(robot)
     new = nav._compute_plan(START, GOAL, social, True)
     nav.global_layer, nav.meeting_layer = personal_space_layer, None
     old = nav._compute_plan(START, GOAL, social, True)
