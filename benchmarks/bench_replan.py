@@ -5,16 +5,20 @@ Run: ``.venv/bin/python benchmarks/bench_replan.py [--quick]``.
 
 Setup (seeded, as ``bench_crowd_step.py``): the 27 m × 27 m room of the paper suite's
 group/queue scenes (540 × 540 cells at 0.05 m), the ``paccet`` navigator's global stack
-(``Navigator._compute_plan``: people as obstacle discs, ``personal_space_layer``, plan with
-navfn's tolerance), the PR2 at (3, 3) planning to (24, 24) and to (12, 8) (a near goal: the
-compiled search stops there); 50 people walking at 0.5–1.3 m/s, the fastest one at
-``fast`` m/s (1, 3, 5 and 10: the cost must not grow with it).
+(``Navigator._compute_plan``: people as obstacle discs; with the meeting layer option, the
+standing people's personal space and the walkers' where the robot can meet them
+(``meeting_layers``), plan with navfn's tolerance), the PR2 at (3, 3) planning to
+(24, 24) and to (12, 8) (a near goal: the compiled search stops there); 50 people walking
+at 0.5–1.3 m/s, the fastest one at ``fast`` m/s (1, 3, 5 and 10: the cost must not grow with
+it).
 
-Rows per scene: ``before`` = full re-inflation of the map, the NumPy personal-space layer and
-SciPy's Dijkstra (the implementation before: the baseline); ``exact`` = the kept static
-inflation and the compiled layer (the same costmap and the same plan, asserted) with SciPy's
-Dijkstra (the default); ``compiled search`` = the same with ``global_search="compiled"`` (A*:
-the same cost, asserted; among equal-cost paths it may pick another). CPU-time medians
+Rows per scene: ``before`` = full re-inflation of the map, the NumPy layers and SciPy's
+Dijkstra (the reference implementation: the baseline); ``exact`` = the kept static inflation
+and the compiled layers (the same costmap and the same plan, asserted) with SciPy's Dijkstra
+(the default); ``compiled search`` = the same with ``global_search="compiled"`` (A*: the same
+cost, asserted; among equal-cost paths it may pick another); ``people where they are now`` =
+``exact`` with the layer before the meeting layer (every person's Gaussian where they are),
+to show what the meeting layer adds. CPU-time medians
 (``time.thread_time``) and wall medians, interleaved round by round.
 """
 
@@ -28,11 +32,19 @@ from socialnav.core.robot import PR2
 from socialnav.core.scene import SocialContext
 from socialnav.planner import kernels
 from socialnav.planner.global_planner import plan_path
-from socialnav.planner.presets import build_navigator, personal_space_layer
+from socialnav.planner.presets import (
+    MEETING_LAYER,
+    build_navigator,
+    meeting_layers,
+    meeting_space_layer,
+    personal_space_layer,
+    standing_space_layer,
+)
 from socialnav.sim.scenario import load_scenario
 from socialnav.world.costmap import add_obstacle_discs
 
 SEED = 11
+SPEED = MEETING_LAYER["speed_fraction"] * PR2.max_vel_x  # the navigator's cruising speed
 GOALS = {
     "far goal (24, 24)": np.array([24.0, 24.0, 0.0]),
     "near goal (12, 8)": np.array([12.0, 8.0, 0.0]),
@@ -63,14 +75,22 @@ def main(quick: bool = False) -> None:
                 )
                 for search in ("scipy", "compiled")
             }
+            for nav in navs.values():  # the meeting layer option (PlannerPreset.meeting_layer)
+                nav.global_layer, nav.meeting_layer = meeting_layers(PR2)
             tol = 0.5 * PR2.circumscribed_radius
+            # The global layer before the meeting layer: every person where they are now.
+            now = build_navigator("paccet", PR2, costmap, goal, SocialContext())
+            now.global_layer, now.meeting_layer = personal_space_layer, None
 
             def before(social: SocialContext = social, goal: np.ndarray = goal, tol: float = tol):
                 previous = kernels.set_enabled(False)
                 try:
-                    discs = np.column_stack([social.positions(), social.radii()])
+                    # People grown by half a cell diagonal, as the navigator draws them.
+                    grown = social.radii() + costmap.resolution * np.sqrt(2.0) / 2.0
+                    discs = np.column_stack([social.positions(), grown])
                     cm = add_obstacle_discs(costmap, discs, PR2.inscribed_radius)
-                    cm = personal_space_layer(cm, social)
+                    cm = standing_space_layer(cm, social)
+                    cm = meeting_space_layer(cm, social, pose, SPEED)
                     return plan_path(cm, pose[:2], goal[:2], tolerance=tol)
                 finally:
                     kernels.set_enabled(previous)
@@ -81,6 +101,9 @@ def main(quick: bool = False) -> None:
             def compiled(social: SocialContext = social, goal: np.ndarray = goal, navs=navs):
                 return navs["compiled"]._compute_plan(pose, goal, social, True)
 
+            def where_now(social: SocialContext = social, goal: np.ndarray = goal, nav=now):
+                return nav._compute_plan(pose, goal, social, True)
+
             ref, same, fastest = before(), exact(), compiled()
             assert ref.status == same.status == fastest.status == "OK"
             assert np.array_equal(ref.path, same.path) and ref.cost == same.cost
@@ -89,6 +112,7 @@ def main(quick: bool = False) -> None:
                 "before: full inflation, NumPy layer, SciPy Dijkstra (baseline)": before,
                 "exact: kept inflation, compiled layer, SciPy Dijkstra (same plan)": exact,
                 "compiled search (A*, same cost)": compiled,
+                "people where they are now (the layer before; compiled, SciPy)": where_now,
             }
             timed = time_interleaved(list(variants.values()), repeats, warmup=1)
             base = timed[0][2]

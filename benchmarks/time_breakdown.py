@@ -11,7 +11,9 @@ time was lost before the midpoint). Development seeds only (< 10,000). Usage::
     python benchmarks/time_breakdown.py --families crowdnav,crowdnav_visible --seeds 0:6
 
 Variants beside the shipped ``paccet``: ``paccet_static_global`` (no personal-space layer in the
-global plan, ``social_global_path=False``), to show the share of the global plan's detour.
+global plan, ``social_global_path=False``), to show the share of the global plan's detour, and
+``paccet_meeting`` (walkers' personal space where the robot can meet them and replan
+hysteresis: the options ``PlannerPreset.meeting_layer`` and ``replan_hysteresis``).
 """
 
 from __future__ import annotations
@@ -25,11 +27,14 @@ from collections import defaultdict
 import numpy as np
 
 from harness import development_seeds
-from socialnav.planner.presets import PRESETS
+from socialnav.planner.presets import PRESETS, RECOMMENDED_HYSTERESIS
 from socialnav.sim.generate import GENERATORS
 
 VARIANTS = {
-    "paccet_static_global": dataclasses.replace(PRESETS.get("paccet"), social_global_path=False)
+    "paccet_static_global": dataclasses.replace(PRESETS.get("paccet"), social_global_path=False),
+    "paccet_meeting": dataclasses.replace(
+        PRESETS.get("paccet"), meeting_layer=True, replan_hysteresis=RECOMMENDED_HYSTERESIS
+    ),
 }
 STOPPED = 0.05  # m/s
 

@@ -268,6 +268,7 @@ def test_warmup_covers_selection_search_and_layers() -> None:
     fns = {
         "astar": kernels._astar_kernel,
         "proxemic": kernels._proxemic_exponents,
+        "meeting": kernels._meeting_exponents,
         "scatter": kernels._scatter_cost,
         "s_star": paccet._s_star_kernel,
         "front": nondominated._front_kernel,
@@ -531,6 +532,35 @@ def test_proxemic_layer_identical(
     amplitude, variance, cutoff, factor = params
     args = (geo, pos, vel, amplitude, variance, cutoff, factor, passing)
     assert np.array_equal(kernels.proxemic_costs(*args), proxemic_costs(*args))
+
+
+@settings(max_examples=40)
+@given(
+    seed=st.integers(0, 2**31 - 1),
+    people=st.integers(0, 30),
+    fast=st.sampled_from([0.0, 0.2, 1.0, 5.0, 30.0]),
+    speed=st.sampled_from([0.1, 0.44, 1.0]),
+    timing=st.sampled_from([(10.0, 1.0, 0.25), (4.0, 0.3, 0.0), (20.0, 2.0, 1.0)]),
+)
+def test_meeting_layer_identical(
+    seed: int, people: int, fast: float, speed: float, timing: tuple[float, float, float]
+) -> None:
+    """The compiled meeting layer equals the NumPy layer cell for cell (its row culling drops
+    only cells below the cutoff): walkers on and off the grid, standing, one fast, the robot
+    anywhere."""
+    from socialnav.world.meeting_layer import meeting_costs
+
+    rng = np.random.default_rng(seed)
+    shape = tuple(int(v) for v in rng.integers(5, 160, 2))
+    geo = GridGeometry(shape, float(rng.choice([0.05, 0.1])), (float(rng.uniform(-2, 2)), 0.3))
+    pos = rng.uniform(-3.0, 0.1 * max(shape) + 3.0, (people, 2))
+    vel = rng.uniform(-1.3, 1.3, (people, 2)) * (rng.random((people, 1)) < 0.8)
+    if people:
+        vel[0] = [fast, -0.5 * fast]
+    start = rng.uniform(-1.0, 0.1 * max(shape) + 1.0, 2)
+    horizon, tau0, tau_rate = timing
+    args = (geo, pos, vel, start, speed, 250.0, 0.64, 5.0, horizon, tau0, tau_rate)
+    assert np.array_equal(kernels.meeting_costs(*args), meeting_costs(*args))
 
 
 @settings(max_examples=40)

@@ -226,6 +226,58 @@ def plan_path(
     return GlobalPlan(path, "OK", float(dist[g_idx]), goal)
 
 
+def path_cost(
+    costmap: Costmap,
+    path: ArrayLike,
+    start_xy: ArrayLike | None = None,
+    neutral_cost: float = 50.0,
+    cost_factor: float = 3.0,
+    lethal_cost: int = 253,
+) -> float:
+    """The cost of following the polyline ``path (P, 2)`` (m, world) over ``costmap``, in the
+    search's units: ``∫ (neutral_cost + cost_factor · c(x)) ds`` sampled every half cell, so
+    a plan and another route are compared on the same costmap alike. ``inf`` when a sample
+    is off the map or on a cell the search may not enter (``>= lethal_cost``), except the
+    cell of ``start_xy (2,)`` (the robot's own cell, which the search clears too)."""
+    return path_costs(costmap, path, start_xy, neutral_cost, cost_factor, lethal_cost)[0]
+
+
+def path_costs(
+    costmap: Costmap,
+    path: ArrayLike,
+    start_xy: ArrayLike | None = None,
+    neutral_cost: float = 50.0,
+    cost_factor: float = 3.0,
+    lethal_cost: int = 253,
+) -> tuple[float, int]:
+    """:func:`path_cost` and the highest cell cost (0–255) the path crosses, outside the
+    cell of ``start_xy``: ``(inf, 255)`` when it is blocked or leaves the map."""
+    pts = as_points(path, "path").reshape(-1, 2)
+    if pts.shape[0] < 2:
+        return 0.0, 0
+    geo = costmap.geometry
+    seg = np.diff(pts, axis=0)
+    length = np.hypot(seg[:, 0], seg[:, 1])
+    n = np.maximum(np.ceil(length / (0.5 * geo.resolution)).astype(int), 1)
+    # Midpoints of n equal pieces per segment, each weighted by its piece length.
+    k = np.repeat(np.arange(len(n)), n)
+    frac = (np.arange(int(n.sum())) - np.repeat(np.cumsum(n) - n, n) + 0.5) / n[k]
+    samples = pts[k] + frac[:, None] * seg[k]
+    ds = (length / n)[k]
+    cells = geo.world_to_cell(samples)
+    if not np.all(geo.in_bounds(cells)):
+        return float("inf"), 255
+    c = costmap.costs[cells[:, 0], cells[:, 1]]
+    outside = np.ones(len(c), dtype=bool)
+    if start_xy is not None:
+        s_rc = geo.world_to_cell(as_points(start_xy, "start_xy"))
+        outside = ~((cells[:, 0] == s_rc[0]) & (cells[:, 1] == s_rc[1]))
+    if np.any(outside & (c >= lethal_cost)):
+        return float("inf"), 255
+    peak = int(c[outside].max()) if outside.any() else 0
+    return float(np.sum(ds * (neutral_cost + cost_factor * c.astype(np.float64)))), peak
+
+
 def _reachable_within(
     geo: GridGeometry,
     dist: NDArray[np.float64],

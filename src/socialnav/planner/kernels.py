@@ -23,6 +23,7 @@ and is called when a planner is built, so no control step ever compiles. Its dur
 
 from __future__ import annotations
 
+import math
 import os
 import threading
 import time
@@ -32,7 +33,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from socialnav.core import compiled
-from socialnav.world import proxemic_layer
+from socialnav.world import meeting_layer, proxemic_layer
 from socialnav.world.grid import GridGeometry
 from socialnav.world.proxemic_layer import person_windows
 
@@ -1236,6 +1237,25 @@ def _scatter_cost(flat, e, m, amplitude, cutoff, out):  # type: ignore[no-untype
 _PROXEMIC_BATCH = 1 << 18  # cells per compiled pass (bounds the buffers: 4 MB)
 
 
+def _batches(
+    cells: NDArray[np.int64],
+) -> tuple[NDArray[np.int64], NDArray[np.float64], list[tuple[int, int]]]:
+    """Cell-index and exponent buffers for one compiled pass, and the window spans
+    ``[first, last)`` (in order) whose visited ``cells (K,)`` fit them together (a window
+    larger than the batch gets buffers of its own size)."""
+    size = int(max(_PROXEMIC_BATCH, cells.max()))
+    spans: list[tuple[int, int]] = []
+    first = 0
+    while first < len(cells):
+        last, total = first, 0
+        while last < len(cells) and total + cells[last] <= size:
+            total += int(cells[last])
+            last += 1
+        spans.append((first, last))
+        first = last
+    return np.empty(size, dtype=np.int64), np.empty(size), spans
+
+
 def proxemic_costs(
     geometry: GridGeometry,
     positions: NDArray[np.float64],
@@ -1271,15 +1291,8 @@ def proxemic_costs(
     threshold = log_ratio - 1e-6  # exp is monotone; the margin absorbs rounding
     ox, oy = geometry.origin
     flat_out = out.reshape(-1)
-    size = int(max(_PROXEMIC_BATCH, cells.max()))
-    flat = np.empty(size, dtype=np.int64)
-    expo = np.empty(size)
-    first = 0
-    while first < len(windows):
-        last, total = first, 0
-        while last < len(windows) and total + cells[last] <= size:
-            total += int(cells[last])
-            last += 1
+    flat, expo, spans = _batches(cells)
+    for first, last in spans:
         m = _proxemic_exponents(
             table, semi, first, last, float(ox), float(oy), res, int(geometry.shape[1]),
             float(variance), threshold, flat, expo,
@@ -1291,7 +1304,110 @@ def proxemic_costs(
             )  # fmt: skip
         e = np.exp(expo[:m], out=expo[:m])  # NumPy's exp, the reference's
         _scatter_cost(flat, e, m, float(amplitude), float(cutoff), flat_out)
-        first = last
+    return out
+
+
+# ---- meeting layer ---------------------------------------------------------------------------
+
+
+@_jit
+def _meeting_exponents(  # type: ignore[no-untyped-def]
+    windows, samples, first, last, ox, oy, res, cols_n, sx, sy, speed, tau0, tau_rate,
+    variance, two_var, depth, flat, expo,
+):  # fmt: skip
+    """Windows ``first..last-1`` (rows ``(r0, r1, c0, c1, x, y, vx, vy, den, h, s0, s1,
+    radius)``): the exponent ``-min_t E`` of each cell with the reference's operations
+    (:func:`socialnav.world.meeting_layer.meeting_costs`), visiting per row only the columns
+    within ``radius`` of the window's lane points ``samples[s0:s1]`` (the others are below
+    the cutoff); cells with ``E <= depth`` go to ``flat``/``expo``. Returns their count (-1
+    if the buffers would overflow)."""
+    m = 0
+    for k in range(first, last):
+        r0, r1 = int(windows[k, 0]), int(windows[k, 1])
+        c0, c1 = int(windows[k, 2]), int(windows[k, 3])
+        x, y, vx, vy = windows[k, 4], windows[k, 5], windows[k, 6], windows[k, 7]
+        den, h = windows[k, 8], windows[k, 9]
+        s0, s1, radius = int(windows[k, 10]), int(windows[k, 11]), windows[k, 12]
+        r2 = radius * radius
+        for r in range(r0, r1):
+            yc = oy + (r + 0.5) * res
+            dy = yc - y
+            lo, hi = np.inf, -np.inf
+            for i in range(s0, s1):
+                gy = yc - samples[i, 1]
+                if gy * gy <= r2:
+                    half = np.sqrt(r2 - gy * gy)
+                    lo = min(lo, samples[i, 0] - half)
+                    hi = max(hi, samples[i, 0] + half)
+            if lo > hi:
+                continue
+            q0 = max(int(np.floor((lo - ox) / res - 0.5)) - 1, c0)
+            q1 = min(int(np.ceil((hi - ox) / res - 0.5)) + 2, c1)
+            for q in range(q0, q1):
+                xc = ox + (q + 0.5) * res
+                dx = xc - x
+                arrive = math.hypot(xc - sx, yc - sy) / speed
+                w = tau0 + tau_rate * arrive
+                inv_tau2 = 1.0 / (w * w)
+                t = ((dx * vx + dy * vy) / variance + arrive * inv_tau2) / (den + inv_tau2)
+                t = min(max(t, 0.0), h)
+                ex = dx - t * vx
+                ey = dy - t * vy
+                lag = arrive - t
+                e = (ex * ex + ey * ey) / two_var + 0.5 * lag * lag * inv_tau2
+                if e <= depth:
+                    if m >= flat.shape[0]:
+                        return -1
+                    flat[m] = r * cols_n + q
+                    expo[m] = -e
+                    m += 1
+    return m
+
+
+def meeting_costs(
+    geometry: GridGeometry,
+    positions: NDArray[np.float64],
+    velocities: NDArray[np.float64],
+    start_xy: NDArray[np.float64],
+    speed: float,
+    amplitude: float = 250.0,
+    variance: float = 0.64,
+    cutoff: float = 5.0,
+    horizon: float = 10.0,
+    tau0: float = 1.0,
+    tau_rate: float = 0.25,
+    lane_step: float = 0.25,
+) -> NDArray[np.uint8]:
+    """:func:`socialnav.world.meeting_layer.meeting_costs`, the same uint8 layer (same
+    errors): one compiled pass per batch of walker windows computes the exponents without
+    temporaries; NumPy's ``exp`` (the reference's) runs only on the cells above the cutoff."""
+    start, windows, samples = meeting_layer.meeting_windows(
+        geometry, positions, velocities, start_xy, speed, amplitude, variance, cutoff,
+        horizon, tau0, tau_rate, lane_step,
+    )  # fmt: skip
+    out = np.zeros(geometry.shape, dtype=np.uint8)
+    if not windows:
+        return out
+    table = np.array(windows, dtype=np.float64)  # (K, 13)
+    cells = ((table[:, 1] - table[:, 0]) * (table[:, 3] - table[:, 2])).astype(np.int64)
+    depth = float(np.log(amplitude / cutoff))
+    samples = np.ascontiguousarray(samples, dtype=np.float64)
+    ox, oy = geometry.origin
+    flat_out = out.reshape(-1)
+    flat, expo, spans = _batches(cells)
+    for first, last in spans:
+        m = _meeting_exponents(
+            table, samples, first, last, float(ox), float(oy), float(geometry.resolution),
+            int(geometry.shape[1]), float(start[0]), float(start[1]), float(speed),
+            float(tau0), float(tau_rate), float(variance), 2.0 * variance, depth, flat, expo,
+        )  # fmt: skip
+        if m < 0:  # pragma: no cover - a window's cells fit the buffer by construction
+            return meeting_layer.meeting_costs(
+                geometry, positions, velocities, start_xy, speed, amplitude, variance, cutoff,
+                horizon, tau0, tau_rate, lane_step,
+            )  # fmt: skip
+        e = np.exp(expo[:m], out=expo[:m])  # NumPy's exp, the reference's
+        _scatter_cost(flat, e, m, float(amplitude), float(cutoff), flat_out)
     return out
 
 
@@ -1682,6 +1798,7 @@ def warmup() -> float:
     hit_codes(costs, 253, 2, 2)
     grid_weights(costs, costs == 0, np.array([[0, 1]]), np.array([0.25]), 50.0, 3.0)
     proxemic_costs(GridGeometry((4, 4), 0.25), np.ones((1, 2)), np.ones((1, 2)), passing=True)
+    meeting_costs(GridGeometry((4, 4), 0.25), np.ones((1, 2)), np.ones((1, 2)), np.zeros(2), 0.5)
     from socialnav.world.raster import rasterize
 
     rasterize(GridGeometry((4, 4), 0.25), discs=np.array([[0.5, 0.5, 0.3]]))

@@ -35,6 +35,16 @@ Decisions:
   after a failed plan left none) replans inline, as the step must react at once. With
   ``global_search="compiled"`` the search runs without the GIL, so the worker does not stall
   the control step (SciPy's Dijkstra holds it).
+- Replan hysteresis (``replan_hysteresis``, default 0: off; in the spirit of Nav2's
+  replanning, which keeps a valid path): a periodic replan keeps the current plan (pruned,
+  joined to the pose) unless the new one costs that fraction less on the *new* costmap
+  (:func:`~socialnav.planner.global_planner.path_costs`) and its highest cell cost is no
+  higher than the new plan's (never nearer anyone), so a plan around crossing people stops
+  flipping sides; a kept plan that became blocked costs ``inf`` and is replaced. Never
+  after a new target or a moved plan end, off the plan, while ``WAITING`` (that replan looks
+  for another way), or within ``prune_lookahead`` of the target (the final approach).
+- ``meeting_layer``: a global layer that also reads the plan's start pose (e.g. walkers'
+  personal space where the robot can meet them), applied after ``global_layer``.
 - The plan is pruned behind the robot: it starts at the plan vertex nearest the robot among the
   next ``prune_lookahead`` m of the plan (so a plan looping back is not skipped ahead).
 - The local window is ``window_size`` m square around the robot (``world.costmap.crop``; off-map
@@ -63,7 +73,7 @@ from socialnav.core.geometry import FloatArray, wrap_angle
 from socialnav.core.robot import RobotModel
 from socialnav.core.scene import SocialContext
 from socialnav.planner.context import PlanningContext
-from socialnav.planner.global_planner import GlobalPlan, GlobalSearch, plan_path
+from socialnav.planner.global_planner import GlobalPlan, GlobalSearch, path_costs, plan_path
 from socialnav.planner.limits import CycleClock, enforce_limits
 from socialnav.planner.local_planner import PlannerResult, PlannerStatus
 from socialnav.planner.protocols import LocalPlannerProtocol
@@ -75,6 +85,9 @@ from socialnav.world.grid import INSCRIBED, LETHAL, Costmap
 SocialGoalFn = Callable[[SocialContext, FloatArray, FloatArray], SocialGoal | None]
 # Per-cycle layer on the local window (e.g. a proxemic layer): (local costmap, people) -> costmap.
 CostmapLayer = Callable[[Costmap, SocialContext], Costmap]
+#: A global layer that reads where the plan starts: (global costmap, people, start pose (3,) m,
+#: rad) -> costmap (e.g. walkers' personal space where the robot can meet them).
+MeetingLayer = Callable[[Costmap, SocialContext, FloatArray], Costmap]
 #: How a due global replan runs (module docstring): in the step, deferred by a fixed number
 #: of steps (deterministic), or threaded (applied when done).
 ReplanMode = Literal["inline", "deferred", "threaded"]
@@ -138,6 +151,8 @@ class Navigator:
         global_search: GlobalSearch = "scipy",
         replan_mode: ReplanMode = "inline",
         replan_delay: int = 2,
+        meeting_layer: MeetingLayer | None = None,
+        replan_hysteresis: float = 0.0,
     ) -> None:
         g = np.asarray(goal, dtype=float)
         if g.shape != (3,) or not np.all(np.isfinite(g)):
@@ -152,6 +167,10 @@ class Navigator:
                 raise ValueError(f"{name} must be positive")
         if not (np.isfinite(goal_tolerance) and goal_tolerance >= 0):
             raise ValueError("goal_tolerance must be finite and >= 0")
+        if not (np.isfinite(replan_hysteresis) and replan_hysteresis >= 0):
+            raise ValueError(f"replan_hysteresis must be finite and >= 0, got {replan_hysteresis}")
+        self.meeting_layer = meeting_layer
+        self.replan_hysteresis = float(replan_hysteresis)
         self.robot = robot
         self.local_planner = local_planner
         self.costmap = costmap
@@ -445,7 +464,9 @@ class Navigator:
                 self._request(now, pose, target, social, changed, off_plan, velocity)
         elif urgent or scheduled:
             self._discard_pending()
-            plan = self._compute_plan(pose, target, social, changed or self._path is None)
+            # A waiting robot replans to find another way: no hysteresis then.
+            kept = None if (changed or off_plan or self._waiting) else self._path
+            plan = self._compute_plan(pose, target, social, changed or self._path is None, kept)
             self._apply_plan(now, pose, target, plan, changed, off_plan)
         if self._path is None:
             return None
@@ -453,15 +474,24 @@ class Navigator:
         return self._path
 
     def _compute_plan(
-        self, pose: FloatArray, target: FloatArray, social: SocialContext, fresh: bool
+        self,
+        pose: FloatArray,
+        target: FloatArray,
+        social: SocialContext,
+        fresh: bool,
+        previous: FloatArray | None = None,
     ) -> GlobalPlan:
         """The global plan from ``pose`` to ``target`` around the people on the map (pure: it
         reads only its arguments and the navigator's fixed configuration, so it may run on
-        the replanning worker). ``fresh``: no plan to this target yet."""
+        the replanning worker). ``fresh``: no plan to this target yet. ``previous (P, 2)``:
+        the plan followed so far to the same target, kept when the new one is not clearly
+        cheaper (``replan_hysteresis``)."""
         on_map = self._on_map(social)
         costmap = self._with_people(self.costmap, on_map, static=True)
         if self.global_layer is not None:
             costmap = self.global_layer(costmap, on_map)
+        if self.meeting_layer is not None:
+            costmap = self.meeting_layer(costmap, on_map, pose)
         plan = plan_path(
             costmap,
             pose[:2],
@@ -474,6 +504,27 @@ class Navigator:
             # (With a plan to this target already, it is kept below.)
             static = plan_path(self.costmap, pose[:2], target[:2], search=self.global_search)
             plan = static if static.status == "OK" else plan
+        if (
+            self.replan_hysteresis > 0.0
+            and previous is not None
+            and previous.shape[0] >= 2
+            and plan.status == "OK"
+            and plan.path is not None
+            # Only a plan to the very same end point: a target that drifts (a queue's tail
+            # moving up by less than the 5 cm that counts as a new target) is followed.
+            and np.array_equal(previous[-1], plan.path[-1])
+            # Near the target the plan is the final approach, always fresh (a kept stale
+            # vertex beside the goal kept a PR2 circling its queue slot: dev queue seed 10).
+            and float(np.hypot(*(plan.path[-1] - pose[:2]))) > self.prune_lookahead
+        ):
+            kept = np.concatenate([pose[None, :2], self._prune(previous, pose)])
+            old, old_peak = path_costs(costmap, kept, pose[:2])
+            new, new_peak = path_costs(costmap, plan.path, pose[:2])
+            # Kept only if not clearly dearer and never nearer anyone at its worst point (a
+            # whole-path margin let an overtaking plan stay 1.17 m beside the walker: paper
+            # suite hallway_overtake).
+            if old <= (1.0 + self.replan_hysteresis) * new and old_peak <= new_peak:
+                return GlobalPlan(kept, "OK", old, plan.goal)
         return plan
 
     def _apply_plan(
@@ -514,7 +565,9 @@ class Navigator:
         lead = self._lead()
         start = pose if velocity is None else self._predicted(pose, velocity, lead)
         ahead = _advanced(social, lead)
-        future = self._executor.submit(self._compute_plan, start, target, ahead, changed)
+        keep = not (changed or off_plan or self._waiting or self._path is None)
+        kept = self._path.copy() if keep and self._path is not None else None
+        future = self._executor.submit(self._compute_plan, start, target, ahead, changed, kept)
         self._pending = _PendingPlan(
             future, self._step_index + self.replan_delay, now, pose, target, changed, off_plan
         )
