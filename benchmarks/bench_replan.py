@@ -16,10 +16,10 @@ Rows per scene: ``before`` = full re-inflation of the map, the NumPy layers and 
 Dijkstra (the reference implementation: the baseline); ``exact`` = the kept static inflation
 and the compiled layers (the same costmap and the same plan, asserted) with SciPy's Dijkstra
 (the default); ``compiled search`` = the same with ``global_search="compiled"`` (A*: the same
-cost, asserted; among equal-cost paths it may pick another); ``people where they are now`` =
-``exact`` with the layer before the meeting layer (every person's Gaussian where they are),
-to show what the meeting layer adds. CPU-time medians
-(``time.thread_time``) and wall medians, interleaved round by round.
+cost, asserted; among equal-cost paths it may pick another): what ``paccet`` ships;
+``meeting layer option`` = the compiled stack with ``PlannerPreset.meeting_layer`` on (off by
+default; also asserted equal to its own NumPy/SciPy reference), to show what it costs.
+CPU-time medians (``time.thread_time``) and wall medians, interleaved round by round.
 """
 
 from __future__ import annotations
@@ -69,50 +69,63 @@ def main(quick: bool = False) -> None:
             rng = np.random.default_rng(SEED)
             pos, vel = _people(rng, 50, fast, size)
             social = _context(pos, vel)
-            navs = {
+            navs = {  # the shipped default: personal space where people are now
                 search: build_navigator(
                     "paccet", PR2, costmap, goal, SocialContext(), global_search=search
                 )
                 for search in ("scipy", "compiled")
             }
-            for nav in navs.values():  # the meeting layer option (PlannerPreset.meeting_layer)
+            meet = {  # the meeting layer option (PlannerPreset.meeting_layer)
+                search: build_navigator(
+                    "paccet", PR2, costmap, goal, SocialContext(), global_search=search
+                )
+                for search in ("scipy", "compiled")
+            }
+            for nav in meet.values():
                 nav.global_layer, nav.meeting_layer = meeting_layers(PR2)
-            tol = 0.5 * PR2.circumscribed_radius
-            # The global layer before the meeting layer: every person where they are now.
-            now = build_navigator("paccet", PR2, costmap, goal, SocialContext())
-            now.global_layer, now.meeting_layer = personal_space_layer, None
 
-            def before(social: SocialContext = social, goal: np.ndarray = goal, tol: float = tol):
+            def reference(social: SocialContext, goal: np.ndarray, meeting: bool):
                 previous = kernels.set_enabled(False)
                 try:
                     # People grown by half a cell diagonal, as the navigator draws them.
                     grown = social.radii() + costmap.resolution * np.sqrt(2.0) / 2.0
                     discs = np.column_stack([social.positions(), grown])
                     cm = add_obstacle_discs(costmap, discs, PR2.inscribed_radius)
-                    cm = standing_space_layer(cm, social)
-                    cm = meeting_space_layer(cm, social, pose, SPEED)
-                    return plan_path(cm, pose[:2], goal[:2], tolerance=tol)
+                    if meeting:
+                        cm = standing_space_layer(cm, social)
+                        cm = meeting_space_layer(cm, social, pose, SPEED)
+                    else:
+                        cm = personal_space_layer(cm, social)
+                    return plan_path(
+                        cm, pose[:2], goal[:2], tolerance=0.5 * PR2.circumscribed_radius
+                    )
                 finally:
                     kernels.set_enabled(previous)
 
-            def exact(social: SocialContext = social, goal: np.ndarray = goal, navs=navs):
-                return navs["scipy"]._compute_plan(pose, goal, social, True)
+            def before(social: SocialContext = social, goal: np.ndarray = goal):
+                return reference(social, goal, False)
 
-            def compiled(social: SocialContext = social, goal: np.ndarray = goal, navs=navs):
-                return navs["compiled"]._compute_plan(pose, goal, social, True)
-
-            def where_now(social: SocialContext = social, goal: np.ndarray = goal, nav=now):
+            def plan(nav, social: SocialContext = social, goal: np.ndarray = goal):
                 return nav._compute_plan(pose, goal, social, True)
 
-            ref, same, fastest = before(), exact(), compiled()
-            assert ref.status == same.status == fastest.status == "OK"
-            assert np.array_equal(ref.path, same.path) and ref.cost == same.cost
-            assert abs(fastest.cost - ref.cost) <= 1e-9 * ref.cost
+            # Each stack against its NumPy/SciPy reference: the same plan, the same cost.
+            for stack, meeting in ((navs, False), (meet, True)):
+                ref = reference(social, goal, meeting)
+                same, fastest = plan(stack["scipy"]), plan(stack["compiled"])
+                assert ref.status == same.status == fastest.status == "OK"
+                assert np.array_equal(ref.path, same.path) and ref.cost == same.cost
+                assert abs(fastest.cost - ref.cost) <= 1e-9 * ref.cost
             variants = {
                 "before: full inflation, NumPy layer, SciPy Dijkstra (baseline)": before,
-                "exact: kept inflation, compiled layer, SciPy Dijkstra (same plan)": exact,
-                "compiled search (A*, same cost)": compiled,
-                "people where they are now (the layer before; compiled, SciPy)": where_now,
+                "exact: kept inflation, compiled layer, SciPy Dijkstra (same plan)": (
+                    lambda n=navs["scipy"]: plan(n)
+                ),
+                "**compiled search (A*, same cost): the default**": (
+                    lambda n=navs["compiled"]: plan(n)
+                ),
+                "meeting layer option, compiled layers and search": (
+                    lambda n=meet["compiled"]: plan(n)
+                ),
             }
             timed = time_interleaved(list(variants.values()), repeats, warmup=1)
             base = timed[0][2]
