@@ -215,8 +215,9 @@ RECOMMENDED_HYSTERESIS = 0.3
 #: (``RecoveryParams.evasion_personal_distance``, ``evasion_hold_step``). Generated dev seeds
 #: 0–19, hallway + crowdnav + crowdnav_visible, both robots: 105 → 111 of 120 passes, collision
 #: runs 4 → 1, no crowdnav timeout added (the saturated gap lets progress decide once clear).
-#: A margin on the saturation does not help: hallway dev seeds 0–39, both robots, passes 69
-#: (1.2 m), 70 (1.3 m), 68 (1.4 m, and 2 collision runs); the near misses (1.12–1.19 m) stay.
+#: A larger evasion_personal_distance (trigger and saturation alike) does not help: hallway dev
+#: seeds 0–39, both robots, passes 69 (1.2 m), 70 (1.3 m), 68 (1.4 m, 2 collision runs); the
+#: near misses (1.12–1.19 m) stay.
 RECOMMENDED_RECOVERY = RecoveryParams(
     evasion_personal_distance=1.2, evasion_personal_time=6.0, evasion_hold_step=1.0
 )
