@@ -218,8 +218,23 @@ RECOMMENDED_HYSTERESIS = 0.3
 #: A larger evasion_personal_distance (trigger and saturation alike) does not help: hallway dev
 #: seeds 0–39, both robots, passes 69 (1.2 m), 70 (1.3 m), 68 (1.4 m, 2 collision runs); the
 #: near misses (1.12–1.19 m) stay.
+#: Timing the passes (``evasion_second_moves``: wait beside one wall, cross after the first
+#: walker, the plan kept while it stays as clear; with ``evasion_gap_margin`` 0.05 m and ties
+#: only at the saturated gap once some move reaches it): hallway dev seeds 0–99, both robots,
+#: 166 → 168 of 200 (PR2 85 → 88, Pioneer 81 → 80; 5 gained, 3 lost), collision runs 4 → 3;
+#: the other families' dev seeds 0–11 unchanged (189 of 192). Measured without the kept plan,
+#: each part alone stayed at 165–166 of 200: second moves only 165, the margin and strict ties
+#: only 165, all but the kept plan 166 (the choice flipped between lanes from cycle to cycle).
+#: Judging the planner's own command kept over the whole encounter (not driven for 1 s and
+#: held) lost passes: 154 of 200, 8 collision runs.
+#: Reporting split, hallway seeds 10000–10199, run once after: Pioneer 168 → 171, PR2 164 → 168
+#: of 200 (10 runs with a collision).
 RECOMMENDED_RECOVERY = RecoveryParams(
-    evasion_personal_distance=1.2, evasion_personal_time=6.0, evasion_hold_step=1.0
+    evasion_personal_distance=1.2,
+    evasion_personal_time=6.0,
+    evasion_hold_step=1.0,
+    evasion_second_moves=4,
+    evasion_gap_margin=0.05,
 )
 
 
