@@ -325,6 +325,14 @@ def presenter_clearance(robot: RobotModel) -> float:
     return max(0.35, robot.circumscribed_radius + PRESENTER_MARGIN)
 
 
+def footprint_front(robot: RobotModel) -> float:
+    """How far (m) the footprint reaches ahead of the robot's centre along its heading (+x of
+    the base frame): the ``queue_front`` of the social-goal rule, with which a PR2 (0.325 m)
+    keeps the queue's body gap behind the last member instead of the people's centre
+    spacing (:func:`~socialnav.social.goals.queue_tail_pose`)."""
+    return max(0.0, float(robot.polygon[:, 0].max()))
+
+
 class StickySocialGoal:
     """Resolve the social goal once and keep it while the people who define it stay put.
 
@@ -350,11 +358,13 @@ class StickySocialGoal:
         tolerance: tuple[float, float] | None = None,
         art_clearance: float = 0.35,
         refine: float = 0.01,
+        queue_front: float = 0.0,
     ) -> None:
         self.moved = moved
         self.refine = refine
         self.tolerance = tolerance
         self.art_clearance = art_clearance
+        self.queue_front = queue_front
         self._positions: dict[int, tuple[float, float]] | None = None
         self._refined: dict[int, tuple[float, float]] = {}
         self._pose: np.ndarray | None = None
@@ -409,7 +419,13 @@ class StickySocialGoal:
     def _resolve(self, social: SocialContext, given_goal: np.ndarray, pose: np.ndarray) -> None:
         from socialnav.social.resolve import resolve_social_goal
 
-        self._goal = resolve_social_goal(social, given_goal, pose, art_clearance=self.art_clearance)
+        self._goal = resolve_social_goal(
+            social,
+            given_goal,
+            pose,
+            art_clearance=self.art_clearance,
+            queue_front=self.queue_front,
+        )
         if self._goal is not None and self.tolerance is not None and not self._goal.is_waypoint:
             from dataclasses import replace
 
@@ -521,7 +537,9 @@ def build_navigator(
         costmap,
         goal,
         social_goal_fn=StickySocialGoal(
-            tolerance=preset.spot_tolerance, art_clearance=presenter_clearance(robot)
+            tolerance=preset.spot_tolerance,
+            art_clearance=presenter_clearance(robot),
+            queue_front=footprint_front(robot),
         )
         if preset.social_goal
         else None,
