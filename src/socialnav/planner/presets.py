@@ -226,7 +226,11 @@ RECOMMENDED_HYSTERESIS = 0.3
 #: ±0.35 rad, 53 and 115; evasion_personal_distance 0.9 m, 44 and 113; gaps discounted by
 #: 0.1 m per second ahead, 41 and 114 (30–89: 78 and 234); the approach check at the mean of
 #: the inscribed and circumscribed radii (30–89) 76 and 229, active 3 → 8; evasion_hold_step
-#: 0.5 s (30–89) 83 and 231.
+#: 0.5 s (30–89) 83 and 231. With active contacts judged on the footprint (as now; shipped:
+#: 0–29 34 passive, 11 active, 106 successes; 30–89 67, 30, 209), a turn guard that drops a
+#: command's turn (or stops) when it would sweep the footprint into someone within 0.2 m:
+#: 0–29 39, 5, 111; 30–89 74, 19, 220 (fewer active contacts, more passive ones); within
+#: 0.05 m: 30–89 67, 27, 212.
 RECOMMENDED_RECOVERY = RecoveryParams(
     evasion_personal_distance=1.2, evasion_personal_time=6.0, evasion_hold_step=1.0
 )
