@@ -218,6 +218,19 @@ RECOMMENDED_HYSTERESIS = 0.3
 #: A larger evasion_personal_distance (trigger and saturation alike) does not help: hallway dev
 #: seeds 0–39, both robots, passes 69 (1.2 m), 70 (1.3 m), 68 (1.4 m, 2 collision runs); the
 #: near misses (1.12–1.19 m) stay.
+#: Measured on the recorded crowds and not adopted (paccet's passive-contact episodes and
+#: successes, both recordings and robots, contacts judged on the centre's velocity as then;
+#: dev seeds 0–29 = 120 episodes: 37 and 117 shipped; 30–89 = 240: 77 and 235 shipped):
+#: giving way also while rotating to the goal, 42 and 113 (ttc trigger only: 39 and 116; it
+#: delays finishing and new walkers arrive); every walker also forecast at its heading
+#: ±0.35 rad, 53 and 115; evasion_personal_distance 0.9 m, 44 and 113; gaps discounted by
+#: 0.1 m per second ahead, 41 and 114 (30–89: 78 and 234); the approach check at the mean of
+#: the inscribed and circumscribed radii (30–89) 76 and 229, active 3 → 8; evasion_hold_step
+#: 0.5 s (30–89) 83 and 231. With active contacts judged on the footprint (as now; shipped:
+#: 0–29 34 passive, 11 active, 106 successes; 30–89 67, 30, 209), a turn guard that drops a
+#: command's turn (or stops) when it would sweep the footprint into someone within 0.2 m:
+#: 0–29 39, 5, 111; 30–89 74, 19, 220 (fewer active contacts, more passive ones); within
+#: 0.05 m: 30–89 67, 27, 212.
 RECOMMENDED_RECOVERY = RecoveryParams(
     evasion_personal_distance=1.2, evasion_personal_time=6.0, evasion_hold_step=1.0
 )
