@@ -7,6 +7,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
 from scipy.io import savemat
 
 from socialnav.crowds.fformations import (
@@ -14,6 +16,7 @@ from socialnav.crowds.fformations import (
     FFormationFormatError,
     FFormationFrame,
     facing_offsets,
+    front_share,
     heading_step,
     load_fformation_frames,
     load_fformation_settings,
@@ -114,6 +117,47 @@ def test_heading_step():
     assert heading_step(np.radians([0, 30, 45, 315])) == pytest.approx(np.radians(15))
     assert heading_step(np.array([0.1234, 1.0, 2.5])) == 0.0
     assert heading_step(np.array([])) == 0.0
+
+
+def test_front_share_analytic():
+    pair = np.array([[0.0, 0.0], [1.0, 0.0]])
+    facing, away = np.array([0.0, np.pi]), np.array([np.pi, 0.0])
+    assert front_share([(pair, facing)]) == (1.0, 2)
+    assert front_share([(pair, away)]) == (0.0, 2)
+    # a faces b; b looks away from a, 135° off the direction to a
+    assert front_share([(pair, np.array([0.0, np.pi / 4]))]) == (0.5, 2)
+    # beyond the range, and a lone person: nobody counted
+    far = front_share([(pair * 2.0, facing), (pair[:1], facing[:1])])
+    assert np.isnan(far[0]) and far[1] == 0
+    # c's nearest is b, but b's is a: only the mutual pair (a, b) counts; frames add up
+    three = np.array([[0.0, 0.0], [0.5, 0.0], [1.3, 0.0]])
+    assert front_share([(three, np.array([0.0, np.pi, 0.0]))]) == (1.0, 2)
+    assert front_share([(pair, facing), (pair, away)]) == (0.5, 4)
+
+
+@given(
+    st.floats(-np.pi, np.pi),
+    st.floats(-10, 10),
+    st.floats(-10, 10),
+    st.integers(0, 2**31 - 1),
+)
+def test_front_share_ignores_the_frame(angle, dx, dy, seed):
+    """A rigid motion of the scene (rotation and translation) leaves the statistic unchanged."""
+    rng = np.random.default_rng(seed)
+    pos, yaw = rng.uniform(0, 4, (8, 2)), rng.uniform(-np.pi, np.pi, 8)
+    c, s = np.cos(angle), np.sin(angle)
+    moved = pos @ np.array([[c, s], [-s, c]]) + [dx, dy]
+    before, after = front_share([(pos, yaw)]), front_share([(moved, yaw + angle)])
+    assert before[1] == after[1]
+    assert before[0] == pytest.approx(after[0], nan_ok=True)
+
+
+def test_front_share_of_random_headings_is_a_half():
+    rng = np.random.default_rng(3)
+    pair = np.array([[0.0, 0.0], [1.0, 0.0]])
+    share, people = front_share((pair, rng.uniform(0, 2 * np.pi, 2)) for _ in range(4000))
+    assert people == 8000
+    assert share == pytest.approx(0.5, abs=0.02)  # 4.5 standard errors
 
 
 def _ring(yaw_of) -> list[FFormationFrame]:

@@ -40,6 +40,24 @@ def test_robot_backing_away_from_someone_walking_into_it_is_passive(make_record,
     assert [e[3] for e in contact_events(r)] == [False]
 
 
+def test_bug_robot_turning_its_corner_into_a_standing_person_is_active(make_record) -> None:
+    # The robot turns on the spot at 1 rad/s from yaw 0 to 45°: its centre stays put, but a
+    # corner (0.283 m out) sweeps into a person 0.47 m ahead (0.02 m from the face at yaw 0),
+    # closing at up to 0.27 m/s. Judged on the centre's velocity this was passive (recorded
+    # crowds: a PR2 or Pioneer turning at its goal beside someone); the footprint approached.
+    robot = np.zeros((9, 2))
+    yaw = np.linspace(0.0, np.pi / 4, 9)
+    person = np.full((9, 1, 2), [0.47, 0.0])
+    r = make_record(robot, yaw=yaw, people=person, people_velocities=0.0 * person, family="crowd")
+    assert [e[3] for e in contact_events(r)] == [True]
+    assert not evaluate_success(r)["success"]
+    # Turned the other way round (45° back to 0) the corner leaves the person: no approach.
+    r = make_record(
+        robot, yaw=yaw[::-1], people=person, people_velocities=0.0 * person, family="crowd"
+    )
+    assert [e[3] for e in contact_events(r)] == [False]
+
+
 def test_a_person_appearing_on_the_robot_is_not_approached_by_the_step_before(
     make_record, seg
 ) -> None:

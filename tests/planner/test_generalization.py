@@ -14,7 +14,7 @@ from socialnav.core.scene import Group, Person, Queue, SocialContext
 from socialnav.core.trajectories import Trajectories
 from socialnav.planner.critics.interpersonal import InterpersonalCritic, partner_thresholds
 from socialnav.planner.local_planner import stop_at_goal
-from socialnav.social.goals import SocialGoal, o_formation_join_pose
+from socialnav.social.goals import SocialGoal, o_formation_join_pose, queue_tail_pose
 
 MEMBERS = [(0.0, 0.9), (-0.9, 0.0), (0.0, -0.9)]  # the paper's group_join, centred at 0
 WALKER = (3.0, 3.0)
@@ -223,6 +223,36 @@ def test_bug_pr2_at_a_queue_tail_turns_to_face_the_line_without_touching_it():
     record = run_episode(generate("queue", 5), "paccet", "pr2", seed=5).record
     failed = [c.name for c in success_conditions(record) if c.required and not c.passed]
     assert failed == []
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("seed", [18, 37])
+def test_bug_pr2_reaches_a_tight_queue_tail_facing_the_line(seed):
+    """Generated queue, dev seeds 18 and 37, PR2: the slot kept the people's centre spacing
+    (0.62 m and 0.63 m) from the last member, 4-5 cm between the PR2's front and their back and
+    inside its own costmap's inscribed inflation of them. It stopped 0.10-0.11 m short, turned
+    away while dithering there, and ended STUCK facing 40-90° off the line. The slot now keeps
+    the queue's body gap (0.075 m further back for the PR2's 0.325 m front)."""
+    from socialnav.metrics.success import success_conditions
+    from socialnav.sim.generate import generate
+    from socialnav.sim.runner import run_episode
+
+    record = run_episode(generate("queue", seed), "paccet", "pr2", seed=seed).record
+    failed = [c.name for c in success_conditions(record) if c.required and not c.passed]
+    assert failed == []
+
+
+def test_queue_slot_keeps_the_body_gap_for_the_robots_own_front():
+    from socialnav.core.robot import PIONEER
+    from socialnav.planner.presets import footprint_front
+
+    assert footprint_front(PR2) == pytest.approx(0.325)
+    assert footprint_front(PIONEER) == pytest.approx(0.225)
+    members, desk = np.array([[0.0, 1.0], [0.0, 1.6]]), np.zeros(2)
+    for robot, gap in ((PR2, 0.675), (PIONEER, 0.6)):  # a Pioneer's front is inside a person's
+        goal = queue_tail_pose(members, desk, 0.6, robot_front=footprint_front(robot))
+        assert goal.position == pytest.approx([0.0, 1.6 + gap])
+        assert goal.yaw == pytest.approx(-np.pi / 2)  # facing the last member
 
 
 @pytest.mark.parametrize("robot_name", ["pr2", "pioneer"])

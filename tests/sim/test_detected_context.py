@@ -43,13 +43,15 @@ def test_unknown_context_is_refused():
 def test_a_detected_episode_records_its_context_and_estimator_time():
     from socialnav.sim.stack import StackController
 
-    result = run_episode("queue_line", StackController("paccet"), "pr2", context="detected")
+    controller = StackController("paccet")
+    result = run_episode("queue_line", controller, "pr2", context="detected")
     meta = result.record.meta
     assert meta["context"] == "detected" and meta["estimator_ms_median"] > 0
     assert meta["detected_social_goal"] == "queue_tail"
-    # success is measured against the true context's target (people stand still here)
+    # success is measured against the true context's target (people stand still here), by the
+    # controller's own rule (the PR2's tail slot keeps the queue's body gap)
     scn = load_scenario("queue_line")
-    given = resolve_target(scn, scn.social_context())
+    given = resolve_target(scn, scn.social_context(), **controller.social_goal_options())
     assert meta["target_source"] == "true context"
     np.testing.assert_allclose(result.record.target, given.pose, atol=1e-9)
 

@@ -20,7 +20,7 @@ Errors: :class:`FFormationFormatError`, naming the file and the field.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -275,3 +275,38 @@ def facing_offsets(
                 off = np.arctan2(d[1], d[0]) - yaw[k]
                 out.append(abs(float(np.arctan2(np.sin(off), np.cos(off)))))
     return np.array(out)
+
+
+def front_share(
+    scenes: Iterable[tuple[FloatArray, FloatArray]], max_range: float = 1.5
+) -> tuple[float, int]:
+    """How often people's headings agree with who stands next to them, without any labels:
+    over every pair of *mutual* nearest neighbours at most ``max_range`` (m) apart, the share
+    of the pair's people whose heading (rad, CCW from +x) has the other strictly in front
+    (positive dot product), with the number of people counted. ``scenes`` yields
+    ``(positions (K, 2) m, yaws (K,) rad)`` per frame.
+
+    Members of an F-formation face its o-space, so a neighbour in their circle stands in
+    front of them (Kendon 1990: in a vis-à-vis pair straight ahead, in a circle of ``k`` at
+    ``90° − 180°/k`` off the heading); a heading drawn at random has them in front half the
+    time. A source whose share is lower than clean headings give for the same kind of scene
+    has that many more wrong headings, which is what ``benchmarks/bench_context.py`` uses to
+    calibrate a detector to a heading source. The default range is the chord between
+    neighbours of a six-person circle of radius 1.5 m (the widest the project's group
+    scenarios use). Returns ``(nan, 0)`` when no pair qualifies."""
+    people = front = 0
+    for positions, yaws in scenes:
+        pos = np.asarray(positions, dtype=float)
+        if pos.shape[0] < 2:
+            continue
+        yaw = np.asarray(yaws, dtype=float)
+        d = np.linalg.norm(pos[:, None] - pos[None], axis=-1)
+        np.fill_diagonal(d, np.inf)
+        nearest = d.argmin(axis=1)
+        mine = np.arange(pos.shape[0])
+        ok = (nearest[nearest] == mine) & (d[mine, nearest] <= max_range)
+        rel = pos[nearest[ok]] - pos[ok]
+        ahead = rel[:, 0] * np.cos(yaw[ok]) + rel[:, 1] * np.sin(yaw[ok]) > 0
+        people += int(ok.sum())
+        front += int(ahead.sum())
+    return (front / people if people else float("nan")), people

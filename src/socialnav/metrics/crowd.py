@@ -4,12 +4,18 @@ et al., "Principles and Guidelines for Evaluating Social Robot Navigation Algori
 Contacts are judged on the robot's footprint: the body-to-body gap (``series.footprint_gaps``)
 below zero. A *contact event* is a maximal run of consecutive samples in contact with one person.
 It is **active** when the robot was moving toward that person — at some sample of the event,
-either the step into it or the step out of it has a velocity component toward the person's
-centre above :data:`APPROACH_SPEED` — and **passive** otherwise (the robot stopped, or moving
-away while someone walks into it). The step into a person's first sample is not judged: a
-person who appears in the recording already touching the robot was not there to be approached
-(the step out of that sample still is). Success on a crowd episode requires no active contact;
-passive contacts are reported beside it (see ``metrics.success``, family ``crowd``).
+either the step into it or the step out of it brings the robot's footprint closer to the
+person's centre (held where they are at that sample) faster than :data:`APPROACH_SPEED` — and
+**passive** otherwise (the robot stopped, or moving away while someone walks into it). The
+footprint, not the robot's centre, is what approaches: a robot turning on the spot sweeps its
+corners into a person beside it although its centre does not move, and a robot sliding its
+flank past a person does not close on them although its centre's velocity may point their way
+(recorded crowds, dev seeds 0–89: 46 of paccet's 206 contact events judged passive on the
+centre's velocity are active on the footprint's, most of them turning at 0.5–1 rad/s). The
+step into a person's first sample is not judged: a person who appears in the recording already
+touching the robot was not there to be approached (the step out of that sample still is).
+Success on a crowd episode requires no active contact; passive contacts are reported beside it
+(see ``metrics.success``, family ``crowd``).
 
 Time near people uses the same body-to-body gap: Hall's intimate (0.45 m) and personal (1.2 m)
 distances, counted as ``dt`` per sample where the gap to the closest present person is below
@@ -22,12 +28,13 @@ import numpy as np
 from numpy.typing import NDArray
 
 from socialnav.core.episode import EpisodeRecord
+from socialnav.core.geometry import signed_distance_to_polygon
 from socialnav.core.success import CONDITIONS, ConditionCheck
 from socialnav.metrics.base import MetricFn, metric
-from socialnav.metrics.series import footprint_gaps
+from socialnav.metrics.series import convex_footprint, footprint_gaps, to_body
 from socialnav.social.proxemics import INTIMATE, PERSONAL
 
-#: speed (m/s) toward a person above which the robot counts as approaching them
+#: speed (m/s) at which the robot's footprint closes on a person, above which it approaches them
 APPROACH_SPEED = 0.05
 FRANCIS = "Francis et al. 2023; SocNavBench (Biswas et al. 2022)"
 
@@ -39,21 +46,21 @@ def contact_events(record: EpisodeRecord) -> list[tuple[int, int, int, bool]]:
     contact = footprint_gaps(record) < 0.0  # (T, K); absent people are +inf, never in contact
     if not contact.any():
         return []
-    xy = record.robot_xy
-    step = np.diff(xy, axis=0) / record.dt  # velocity over [t, t + dt], (T - 1, 2)
-    zero = np.zeros((1, 2))
-    into = np.vstack([zero, step])  # the step that arrived at sample t
-    out_of = np.vstack([step, zero])  # the step that leaves sample t
+    poses = record.robot_poses
+    before = np.vstack([poses[:1], poses[:-1]])  # the pose the step into sample t left
+    after = np.vstack([poses[1:], poses[-1:]])  # the pose the step out of sample t reaches
+    fp = convex_footprint(record)
     present = record.people_present  # (T, K)
     was_present = np.vstack([np.zeros((1, present.shape[1]), dtype=bool), present[:-1]])
     events = []
     for k in np.flatnonzero(contact.any(axis=0)):
-        toward = record.people_positions[:, k] - xy
-        norm = np.linalg.norm(toward, axis=1, keepdims=True)
-        unit = np.divide(toward, norm, out=np.zeros_like(toward), where=norm > 1e-9)
+        # The person held at sample t's position: only the robot's own motion (translation and
+        # turning) changes the footprint's signed distance to them.
+        at = np.where(present[:, k, None], record.people_positions[:, k], 0.0)[:, None]
+        sd = [signed_distance_to_polygon(to_body(at, q)[:, 0], fp) for q in (before, poses, after)]
         # the step into a sample counts only if the person was there before it
-        into_k = np.where(was_present[:, k], (into * unit).sum(axis=1), -np.inf)
-        approach = np.maximum(into_k, (out_of * unit).sum(axis=1))
+        into_k = np.where(was_present[:, k], (sd[0] - sd[1]) / record.dt, -np.inf)
+        approach = np.maximum(into_k, (sd[1] - sd[2]) / record.dt)
         for first, last in _runs(contact[:, k]):
             active = bool(np.nanmax(approach[first : last + 1]) > APPROACH_SPEED)
             events.append((int(k), first, last, active))
@@ -71,7 +78,7 @@ def _runs(mask: NDArray[np.bool_]) -> list[tuple[int, int]]:
 @metric("collisions_active", unit="1", direction="min", reference=FRANCIS)
 def collisions_active(record: EpisodeRecord) -> float:
     """Number of active contact events: footprint contact with a person while the robot moves
-    toward them (> 0.05 m/s along the direction to the person's centre)."""
+    toward them (its footprint closing on the person's centre at > 0.05 m/s)."""
     return float(sum(1 for *_, active in contact_events(record) if active))
 
 

@@ -229,6 +229,19 @@ RECOMMENDED_HYSTERESIS = 0.3
 #: held) lost passes: 154 of 200, 8 collision runs.
 #: Reporting split, hallway seeds 10000–10199, run once after: Pioneer 168 → 171, PR2 164 → 168
 #: of 200 (10 runs with a collision).
+#: Measured on the recorded crowds and not adopted (paccet's passive-contact episodes and
+#: successes, both recordings and robots, contacts judged on the centre's velocity as then;
+#: dev seeds 0–29 = 120 episodes: 37 and 117 shipped; 30–89 = 240: 77 and 235 shipped):
+#: giving way also while rotating to the goal, 42 and 113 (ttc trigger only: 39 and 116; it
+#: delays finishing and new walkers arrive); every walker also forecast at its heading
+#: ±0.35 rad, 53 and 115; evasion_personal_distance 0.9 m, 44 and 113; gaps discounted by
+#: 0.1 m per second ahead, 41 and 114 (30–89: 78 and 234); the approach check at the mean of
+#: the inscribed and circumscribed radii (30–89) 76 and 229, active 3 → 8; evasion_hold_step
+#: 0.5 s (30–89) 83 and 231. With active contacts judged on the footprint (as now; shipped:
+#: 0–29 34 passive, 11 active, 106 successes; 30–89 67, 30, 209), a turn guard that drops a
+#: command's turn (or stops) when it would sweep the footprint into someone within 0.2 m:
+#: 0–29 39, 5, 111; 30–89 74, 19, 220 (fewer active contacts, more passive ones); within
+#: 0.05 m: 30–89 67, 27, 212.
 RECOMMENDED_RECOVERY = RecoveryParams(
     evasion_personal_distance=1.2,
     evasion_personal_time=6.0,
@@ -340,6 +353,14 @@ def presenter_clearance(robot: RobotModel) -> float:
     return max(0.35, robot.circumscribed_radius + PRESENTER_MARGIN)
 
 
+def footprint_front(robot: RobotModel) -> float:
+    """How far (m) the footprint reaches ahead of the robot's centre along its heading (+x of
+    the base frame): the ``queue_front`` of the social-goal rule, with which a PR2 (0.325 m)
+    keeps the queue's body gap behind the last member instead of the people's centre
+    spacing (:func:`~socialnav.social.goals.queue_tail_pose`)."""
+    return max(0.0, float(robot.polygon[:, 0].max()))
+
+
 class StickySocialGoal:
     """Resolve the social goal once and keep it while the people who define it stay put.
 
@@ -365,11 +386,13 @@ class StickySocialGoal:
         tolerance: tuple[float, float] | None = None,
         art_clearance: float = 0.35,
         refine: float = 0.01,
+        queue_front: float = 0.0,
     ) -> None:
         self.moved = moved
         self.refine = refine
         self.tolerance = tolerance
         self.art_clearance = art_clearance
+        self.queue_front = queue_front
         self._positions: dict[int, tuple[float, float]] | None = None
         self._refined: dict[int, tuple[float, float]] = {}
         self._pose: np.ndarray | None = None
@@ -424,7 +447,13 @@ class StickySocialGoal:
     def _resolve(self, social: SocialContext, given_goal: np.ndarray, pose: np.ndarray) -> None:
         from socialnav.social.resolve import resolve_social_goal
 
-        self._goal = resolve_social_goal(social, given_goal, pose, art_clearance=self.art_clearance)
+        self._goal = resolve_social_goal(
+            social,
+            given_goal,
+            pose,
+            art_clearance=self.art_clearance,
+            queue_front=self.queue_front,
+        )
         if self._goal is not None and self.tolerance is not None and not self._goal.is_waypoint:
             from dataclasses import replace
 
@@ -536,7 +565,9 @@ def build_navigator(
         costmap,
         goal,
         social_goal_fn=StickySocialGoal(
-            tolerance=preset.spot_tolerance, art_clearance=presenter_clearance(robot)
+            tolerance=preset.spot_tolerance,
+            art_clearance=presenter_clearance(robot),
+            queue_front=footprint_front(robot),
         )
         if preset.social_goal
         else None,

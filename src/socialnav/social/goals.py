@@ -381,12 +381,22 @@ def queue_tail_pose(
     *,
     robot_position: ArrayLike | None = None,
     free_fn: FreeFn | None = None,
+    robot_front: float = 0.0,
+    member_radius: float = 0.25,
 ) -> SocialGoal:
     """The tail slot of a queue whose members ``(K, 2)`` run head → tail.
 
     Fit the total-least-squares line through the members (the paper's ``y = mx + c`` fails on
     vertical queues), intersect it with the circle of radius ``spacing`` (m) around the last
     member and keep the solution farthest from ``service_point``. The robot faces the last member.
+
+    A robot that reaches farther ahead of its centre than a person does (``robot_front`` m,
+    the footprint's extent along its heading, against the last member's ``member_radius`` m)
+    keeps the queue's own body gap (``spacing − 2·member_radius`` between people) from the
+    last member's back: the circle's radius is ``spacing + max(0, robot_front −
+    member_radius)``. At the people's centre spacing a PR2 (0.325 m) in a 0.6 m queue would
+    stand 2.5 cm from a back, inside its own costmap's inscribed inflation of that person.
+    The default ``robot_front = 0`` is the rule above (the paper's).
 
     Fallbacks: ``single_member`` (one distinct position: go ``spacing`` away from the service
     point; if the member stands on it, toward the robot, else +x); ``off_line`` (the last member
@@ -399,6 +409,9 @@ def queue_tail_pose(
     assert service is not None
     robot = _point(robot_position, "robot_position")
     s = _scalar(spacing, "spacing", positive=True)
+    front = _scalar(robot_front, "robot_front")
+    radius = _scalar(member_radius, "member_radius")
+    s += max(0.0, front - radius)
     last = p[-1]
     geometry: dict[str, Any] = {"members": p, "service_point": service, "spacing": s}
     fallback: str | None = None

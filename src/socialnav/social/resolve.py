@@ -72,6 +72,7 @@ def resolve_social_goal(
     waypoint_clearance: float = 1.6,
     free_fn: FreeFn | None = None,
     art_clearance: float = 0.35,
+    queue_front: float = 0.0,
 ) -> SocialGoal | None:
     """The applicable social goal for ``given_goal (3,)`` seen from ``robot_pose (3,)``, or None.
 
@@ -79,7 +80,9 @@ def resolve_social_goal(
     free ``(M,)``) is passed to the goal functions so spots inside walls are avoided;
     ``art_clearance`` (m) is the presenter spot's clearance from the activity space
     (:func:`~socialnav.social.goals.presenter_pose`; a robot's circumscribed radius keeps its
-    footprint outside at any yaw).
+    footprint outside at any yaw); ``queue_front`` (m) is the robot's footprint extent ahead of
+    its centre, with which the tail slot keeps the queue's body gap
+    (:func:`~socialnav.social.goals.queue_tail_pose` ``robot_front``; 0: the people's spacing).
     :func:`resolve_social_goal_detailed` also says which structures were rejected and why.
     """
     return resolve_social_goal_detailed(
@@ -93,6 +96,7 @@ def resolve_social_goal(
         waypoint_clearance=waypoint_clearance,
         free_fn=free_fn,
         art_clearance=art_clearance,
+        queue_front=queue_front,
     ).goal
 
 
@@ -108,6 +112,7 @@ def resolve_social_goal_detailed(
     waypoint_clearance: float = 1.6,
     free_fn: FreeFn | None = None,
     art_clearance: float = 0.35,
+    queue_front: float = 0.0,
 ) -> Resolution:
     """:func:`resolve_social_goal` with the structures it rejected, each with a reason."""
     rejected: list[tuple[str, str]] = []
@@ -136,6 +141,8 @@ def resolve_social_goal_detailed(
                         queue.spacing,
                         robot_position=robot,
                         free_fn=free_fn,
+                        robot_front=queue_front,
+                        member_radius=social.person(queue.member_ids[-1]).radius,
                     ),
                 )
             )
