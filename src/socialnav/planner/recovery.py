@@ -31,13 +31,6 @@ Behaviour (parameters in :class:`RecoveryParams`, ROS/Nav2 names, budgets in sec
   and the one ending nearest the goal wins — the planner's own command when it is clear,
   which ends the evasion. A robot thus leaves a walker's lane and waits beside it, instead of
   backing up in it or stepping aside only as far as 3 s of constant twist show.
-  (3) *timing the passes* (``evasion_second_moves`` > 0, with giving way): when walkers pass
-  the standing robot at different times, from a few held poses (spread apart) a second
-  move-and-hold is tried after the first pass, so that a robot can wait beside one wall and
-  cross once the first walker is by, when no single lane is clear of both; the chosen two-move
-  plan is kept (and followed: move, hold, cross, hold) while it stays as clear as any new
-  move. Giving way's gap saturates ``evasion_gap_margin`` m beyond the personal distance, and
-  once some move reaches saturation only those that do tie.
 - **Waiting** (status ``WAITING``, zero command; the navigator decelerates it within the
   acceleration limits and replans): when no trajectory is legal, or the legal ones make no
   progress, and a person blocks: within ``person_blocking_distance`` m (footprint circle to
@@ -92,21 +85,6 @@ _AT_GOAL = (PlannerStatus.GOAL_REACHED, PlannerStatus.ROTATING_TO_GOAL)
 APPROACH_SPEED = 0.02
 #: how far ahead (s) an evasive move is checked for closing on a touched person
 APPROACH_HORIZON = 1.0
-#: giving way: gaps (m) within this of the best tie, and progress decides among them
-GAP_TIE = 0.05
-#: time step (s) at which a kept two-move plan is integrated to be judged again
-PLAN_STEP = 0.05
-
-
-def near_best(gaps: FloatArray, full: float) -> np.ndarray:
-    """``(N,)`` the ``gaps`` (m) that tie with the best: within ``GAP_TIE`` of it, or, once
-    some move keeps the saturated gap ``full`` (everyone at the personal distance), only the
-    moves that keep it too. A 5 cm tie below saturation let progress pick moves passing at
-    1.15-1.2 m, and the personal-space check failed on them (generated hallway dev seeds)."""
-    best = float(gaps.max())
-    if best >= full - 1e-9:
-        return np.asarray(gaps >= full - 1e-9)
-    return np.asarray(gaps >= best - GAP_TIE)
 
 
 @dataclass(frozen=True)
@@ -138,8 +116,6 @@ class RecoveryParams:
     evasion_personal_time: float = 4.0
     evasion_hold_step: float = 0.0  # off: constant twists over evasion_horizon; paccet 1.0
     evasion_max_horizon: float = 8.0
-    evasion_second_moves: int = 0  # off: one move per encounter; paccet 4 held poses
-    evasion_gap_margin: float = 0.0  # giving way's saturation beyond the personal distance
 
     def __post_init__(self) -> None:
         for f in fields(self):
@@ -147,9 +123,6 @@ class RecoveryParams:
             if f.name in ("num_headings", "max_recoveries"):
                 if int(value) < 1:
                     raise ConfigurationError(f"recovery parameter {f.name} must be >= 1")
-            elif f.name == "evasion_second_moves":
-                if int(value) < 0:
-                    raise ConfigurationError(f"recovery parameter {f.name} must be >= 0")
             elif not (np.isfinite(value) and value >= 0):
                 raise ConfigurationError(f"recovery parameter {f.name} must be finite and >= 0")
         for name in ("required_movement_radius", "movement_time_allowance", "evasion_horizon"):
@@ -213,8 +186,6 @@ class RecoveringPlanner:
         self._anchor_time = 0.0
         self._goal: FloatArray | None = None
         self._blocked = False  # the previous cycle had no legal command
-        # giving way's two-move plan: (set at s, twist, driven s, switch s, twist, driven s)
-        self._plan: tuple[float, FloatArray, float, float, FloatArray, float] | None = None
 
     def _out(
         self, cmd: FloatArray, status: PlannerStatus, record: EvaluationRecord | None, message: str
@@ -371,17 +342,11 @@ class RecoveringPlanner:
         p, r = self.params, self.robot
         pos, vel = ctx.social.positions(), ctx.social.velocities()
         radii = ctx.social.radii()
-        # The encounter lasts until the triggering walkers pass the robot standing still
-        # (with second moves, every walker in view that would pass through its personal space).
+        # The encounter lasts until the triggering walkers pass the robot standing still.
         walkers = np.flatnonzero(sel)[trigger]
         _, t_pass = closest_approach(ctx.pose[:2], np.zeros(2), pos[walkers], vel[walkers])
-        passes = self._passes(ctx) if p.evasion_second_moves > 0 else np.zeros(0)
         horizon = float(
-            np.clip(
-                max(t_pass.max(), passes.max(initial=0.0)) + p.evasion_hold_step,
-                p.evasion_horizon,
-                p.evasion_max_horizon,
-            )
+            np.clip(t_pass.max() + p.evasion_hold_step, p.evasion_horizon, p.evasion_max_horizon)
         )
         twists = np.concatenate([result.cmd[None], np.zeros((1, 3)), evasion_twists(r, arcs=True)])
         base = rollout(ctx.pose, np.zeros(3), twists, r, RolloutParams(horizon, 0.05, 0.1))
@@ -391,143 +356,20 @@ class RecoveringPlanner:
         # Saturated at the personal distance: every move that keeps every walker clear ties,
         # and the one with the most progress wins, so evasion ends as soon as the walkers'
         # closest approach is clear (the planner's own command wins the tie: no evasion).
-        # (With a margin: the planner's next commands are not the forecast's held twists.)
-        reach = max(p.evasion_personal_distance, 0.0) + p.evasion_gap_margin
-        clear = reach - radii - r.circumscribed_radius
+        clear = max(p.evasion_personal_distance, 0.0) - radii - r.circumscribed_radius
         gaps = np.minimum(person_gap_minima(trajs, r, pos, vel, radii), clear[None]).min(axis=1)
         legal = self._static_ok(ctx, trajs) & ~self._approaching(ctx, trajs)
         if not legal[~own].any():
             return None
-        progress = -np.hypot(*(trajs.end_poses[:, :2] - ctx.goal[:2]).T)
-        chosen: dict[int, tuple[float, FloatArray, float]] = {}
-        if passes.size >= 2:
-            chosen = self._second_moves(ctx, trajs, legal, gaps, progress, clear, passes, horizon)
         gaps = np.where(legal, gaps, -np.inf)
-        who = ctx.social.people[int(walkers[int(np.argmin(ttc[trigger]))])]
-        kept = self._kept_plan(ctx, horizon, clear, float(gaps.max()))
-        if kept is not None:
-            why = f"giving way to person {who.id}: waiting to cross ({horizon:.1f} s)"
-            return self._out(kept, PlannerStatus.EVADING, result.record, why)
-        tied = near_best(gaps, float(clear.min(initial=np.inf)))
+        progress = -np.hypot(*(trajs.end_poses[:, :2] - ctx.goal[:2]).T)
+        tied = gaps >= float(gaps.max()) - 0.05
         k = int(np.argmax(np.where(tied, progress, -np.inf)))
         if own[k] or gaps[k] <= float(gaps[own].max()) + 1e-3:
             return None  # the planner's own command keeps as much clearance
-        if k in chosen:
-            t_s, twist2, tau2 = chosen[k]
-            tau1 = float(taus[k // len(twists)])
-            self._plan = (float(ctx.time), trajs.twists[k].copy(), tau1, t_s, twist2, tau2)
+        who = ctx.social.people[int(walkers[int(np.argmin(ttc[trigger]))])]
         why = f"giving way to person {who.id} (gap {float(gaps[k]):.2f} m over {horizon:.1f} s)"
         return self._out(trajs.twists[k].copy(), PlannerStatus.EVADING, result.record, why)
-
-    def _kept_plan(
-        self, ctx: PlanningContext, horizon: float, clear: FloatArray, best: float
-    ) -> FloatArray | None:
-        """This cycle's twist of the last two-move plan (move, hold, cross, hold) while it
-        still keeps as much clearance as the best new move (a plan chosen afresh every cycle
-        from a resampled set flipped between lanes), else ``None`` (and the plan is dropped)."""
-        plan, self._plan = self._plan, None
-        if plan is None:
-            return None
-        t_set, twist1, tau1, t_s, twist2, tau2 = plan
-        age = float(ctx.time) - t_set
-        if age > t_s + tau2 or age < 0:
-            return None
-        segments = [(0.0, tau1, twist1), (t_s, t_s + tau2, twist2)]
-        t = np.arange(0.0, horizon + 1e-9, PLAN_STEP)
-        poses = np.empty((1, t.size, 3))
-        poses[0, 0] = ctx.pose
-        cmds = np.zeros((t.size, 3))
-        for a, b, tw in segments:
-            cmds[(t + age >= a - 1e-9) & (t + age < b - 1e-9)] = tw
-        for k in range(1, t.size):
-            x, y, th = poses[0, k - 1]
-            vx, vy, w = cmds[k - 1]
-            c, sn = np.cos(th), np.sin(th)
-            poses[0, k] = (
-                x + (c * vx - sn * vy) * PLAN_STEP,
-                y + (sn * vx + c * vy) * PLAN_STEP,
-                th + w * PLAN_STEP,
-            )
-        trajs = Trajectories(cmds[:1].copy(), poses, t)
-        pos, vel, radii = ctx.social.positions(), ctx.social.velocities(), ctx.social.radii()
-        gap = np.minimum(person_gap_minima(trajs, self.robot, pos, vel, radii), clear[None]).min()
-        ok = bool(self._static_ok(ctx, trajs)[0]) and not bool(self._approaching(ctx, trajs)[0])
-        if not ok or float(gap) < best - 1e-3:
-            return None
-        self._plan = plan
-        return cmds[0].copy()
-
-    def _passes(self, ctx: PlanningContext) -> FloatArray:
-        """Sorted times (s) at which the walkers (at least ``evasion_min_person_speed``, near or
-        far) pass the robot standing still inside its personal space
-        (``evasion_personal_distance``): the passes giving way must time."""
-        pos, vel = ctx.social.positions(), ctx.social.velocities()
-        walking = np.hypot(vel[:, 0], vel[:, 1]) >= self.params.evasion_min_person_speed
-        cpa, t_pass = closest_approach(ctx.pose[:2], np.zeros(2), pos[walking], vel[walking])
-        return np.sort(t_pass[(cpa < self.params.evasion_personal_distance) & (t_pass > 0)])
-
-    def _second_moves(
-        self,
-        ctx: PlanningContext,
-        trajs: Trajectories,
-        legal: np.ndarray,
-        gaps: FloatArray,
-        progress: FloatArray,
-        clear: FloatArray,
-        passes: FloatArray,
-        horizon: float,
-    ) -> dict[int, tuple[float, FloatArray, float]]:
-        """Time the passes: a held pose that clears the first walker may leave no room for a
-        later one (two walkers in different lanes, one lane beside each wall), so from up to
-        ``evasion_second_moves`` held poses (spread apart, among those keeping the most
-        clearance until the first pass) a second move-and-hold is tried after the first pass
-        (wait at one wall, then cross). ``gaps`` and ``progress`` ``(N,)`` of ``trajs`` are
-        raised in place where a second move keeps more clearance; returns, for those rows, the
-        switch time (s from now), the second twist and how long it is driven (s). Generated
-        hallway dev seeds:
-        two walkers in different lanes passed the robot at 0.82-1.1 m (PR2 seeds 2, 19, 38)."""
-        p, r = self.params, self.robot
-        hold = p.evasion_hold_step
-        chosen: dict[int, tuple[float, FloatArray, float]] = {}
-        passes = passes[passes < horizon]
-        if passes.size < 2:
-            return chosen
-        k_s = int(np.searchsorted(trajs.t, passes[0]))
-        if passes[-1] < passes[0] + hold or k_s >= trajs.t.size or horizon - trajs.t[k_s] < hold:
-            return chosen  # one pass (or passes together): nothing to time
-        t_s = float(trajs.t[k_s])
-        pos, vel, radii = ctx.social.positions(), ctx.social.velocities(), ctx.social.radii()
-        prefix = Trajectories(trajs.twists, trajs.poses[:, : k_s + 1], trajs.t[: k_s + 1])
-        before = np.minimum(person_gap_minima(prefix, r, pos, vel, radii), clear[None]).min(axis=1)
-        full = float(clear.min(initial=np.inf))
-        cand = np.flatnonzero(legal & near_best(np.where(legal, before, -np.inf), full))
-        # Held poses spread apart (farthest-point order from the one nearest the goal): the
-        # lane to wait in is the choice that matters, not the progress along the first move.
-        at = trajs.poses[cand, k_s]
-        seeds = [int(np.argmax(progress[cand]))]
-        spread = np.hypot(*(at[:, :2] - at[seeds[0], :2]).T)
-        while len(seeds) < p.evasion_second_moves and spread.max() > 0.2:
-            seeds.append(int(np.argmax(spread)))
-            spread = np.minimum(spread, np.hypot(*(at[:, :2] - at[seeds[-1], :2]).T))
-        rest = horizon - t_s
-        twists = np.concatenate([np.zeros((1, 3)), evasion_twists(r, speeds=1, arcs=True)])
-        taus = np.append(np.arange(hold, rest, hold), rest)
-        later = pos + t_s * vel  # people forecast at constant velocity to the switch time
-        for s in seeds:
-            i = int(cand[s])
-            base = rollout(at[s], np.zeros(3), twists, r, RolloutParams(rest, 0.05, 0.1))
-            second = move_and_hold(base, taus)
-            after = person_gap_minima(second, r, later, vel, radii)
-            after = np.where(
-                self._static_ok(ctx, second), np.minimum(after, clear[None]).min(axis=1), -np.inf
-            )
-            ahead = -np.hypot(*(second.end_poses[:, :2] - ctx.goal[:2]).T)
-            j = int(np.argmax(np.where(near_best(after, full), ahead, -np.inf)))
-            value = min(float(before[i]), float(after[j]))
-            if value > gaps[i] + 1e-3:
-                gaps[i], progress[i] = value, ahead[j]
-                chosen[i] = (t_s, second.twists[j].copy(), float(taus[j // len(twists)]))
-        return chosen
 
     def _approaching(self, ctx: PlanningContext, trajs: Trajectories) -> np.ndarray:
         """``(N,)`` rollouts moving toward a person they touch (``critics.interpersonal``)
