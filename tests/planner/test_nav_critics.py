@@ -207,6 +207,21 @@ def test_occupancy_collision_centre_and_footprint():
     assert raw.cost[0] == pytest.approx(full.cost[0] / 0.05)
 
 
+@pytest.mark.filterwarnings("error::RuntimeWarning")
+def test_bug_escape_in_an_inscribed_band_without_lethal_cells_in_the_window():
+    """A local window can hold an obstacle's inflation but not the obstacle itself (cut off at
+    the window's edge). Starting in that INSCRIBED band takes the escape rule, whose clearance
+    field is then infinite everywhere: inf - inf compared as "closer" (with a RuntimeWarning),
+    so every trajectory was illegal, even one driving out of the band."""
+    cm = blank(40, 40)
+    costs = cm.costs.copy()
+    costs[:, :12] = INSCRIBED
+    ctx = context(Costmap(costs, cm.geometry), PR2, pose=(0.3, 1.0, 0.0))
+    tr = straight(np.array([[1.0, 1.0]]), start=(0.3, 1.0))
+    s = OccupancyCritic().score(tr, ctx)
+    assert not s.illegal["collision"][0]
+
+
 def test_unknown_cells_are_illegal():
     cm = blank(40, 40)
     costs = cm.costs.copy()

@@ -256,7 +256,10 @@ def _never_closer(ctx: PlanningContext, poses: FloatArray, footprint: bool) -> N
             break
         block = clearance(poses[alive, t0 : t0 + _CHUNK_STEPS].astype(float))  # (M, S)
         seq = np.concatenate([prev[:, None], block], axis=1)
-        good = np.all(np.diff(seq, axis=1) >= -1e-9, axis=1)
+        # Equal infinities (no LETHAL cell in the window: +inf; off the map: -inf) give
+        # inf - inf = NaN, which is no decrease; only a real drop makes a step closer.
+        with np.errstate(invalid="ignore"):
+            good = ~np.any(np.diff(seq, axis=1) < -1e-9, axis=1)
         ok[alive[~good]] = False
         alive, prev = alive[good], block[good, -1]
     return ok
