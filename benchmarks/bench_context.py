@@ -99,6 +99,7 @@ from socialnav.crowds.fformations import (
     heading_step,
     load_fformation_frames,
     load_fformation_settings,
+    mutual_neighbours,
 )
 from socialnav.metrics.groups import PairCounts, group_detection_scores, pairwise_scores
 from socialnav.sim.perception import PerceptionNoise
@@ -913,14 +914,7 @@ def calibrated_section(frames) -> DominantSetsParams:
 def mutual_neighbour_spacing(frames) -> float:
     """Median distance (m) between mutual nearest neighbours over ``frames``: a label-free
     measure of how far apart a scene's people stand."""
-    out: list[float] = []
-    for rows, _ in frames:
-        pos = rows[:, 1:3]
-        d = np.linalg.norm(pos[:, None] - pos[None], axis=-1)
-        np.fill_diagonal(d, np.inf)
-        near = d.argmin(axis=1)
-        out += [float(d[i, near[i]]) for i in range(len(pos)) if near[near[i]] == i]
-    return float(np.median(out))
+    return float(np.median(np.concatenate([mutual_neighbours(r[:, 1:3])[2] for r, _ in frames])))
 
 
 def scaled_section(frames, calibrated: DominantSetsParams) -> None:

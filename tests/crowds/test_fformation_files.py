@@ -20,6 +20,7 @@ from socialnav.crowds.fformations import (
     heading_step,
     load_fformation_frames,
     load_fformation_settings,
+    mutual_neighbours,
 )
 
 DATA = Path(__file__).resolve().parents[2] / ".." / "shared" / "data" / "fformations"
@@ -133,6 +134,15 @@ def test_front_share_analytic():
     three = np.array([[0.0, 0.0], [0.5, 0.0], [1.3, 0.0]])
     assert front_share([(three, np.array([0.0, np.pi, 0.0]))]) == (1.0, 2)
     assert front_share([(pair, facing), (pair, away)]) == (0.5, 4)
+
+
+def test_mutual_neighbours():
+    three = np.array([[0.0, 0.0], [0.5, 0.0], [1.3, 0.0]])  # c's nearest is b, b's is a
+    who, other, gap = mutual_neighbours(three)
+    assert who.tolist() == [0, 1] and other.tolist() == [1, 0]
+    assert gap == pytest.approx([0.5, 0.5])
+    assert mutual_neighbours(three, max_range=0.4)[0].size == 0
+    assert mutual_neighbours(three[:1])[0].size == 0
 
 
 @given(

@@ -297,16 +297,29 @@ def front_share(
     people = front = 0
     for positions, yaws in scenes:
         pos = np.asarray(positions, dtype=float)
-        if pos.shape[0] < 2:
-            continue
         yaw = np.asarray(yaws, dtype=float)
-        d = np.linalg.norm(pos[:, None] - pos[None], axis=-1)
-        np.fill_diagonal(d, np.inf)
-        nearest = d.argmin(axis=1)
-        mine = np.arange(pos.shape[0])
-        ok = (nearest[nearest] == mine) & (d[mine, nearest] <= max_range)
-        rel = pos[nearest[ok]] - pos[ok]
-        ahead = rel[:, 0] * np.cos(yaw[ok]) + rel[:, 1] * np.sin(yaw[ok]) > 0
-        people += int(ok.sum())
+        who, other, _ = mutual_neighbours(pos, max_range)
+        rel = pos[other] - pos[who]
+        ahead = rel[:, 0] * np.cos(yaw[who]) + rel[:, 1] * np.sin(yaw[who]) > 0
+        people += int(who.size)
         front += int(ahead.sum())
     return (front / people if people else float("nan")), people
+
+
+def mutual_neighbours(
+    positions: FloatArray, max_range: float = np.inf
+) -> tuple[np.ndarray, np.ndarray, FloatArray]:
+    """The people of ``positions (K, 2)`` (m) whose nearest neighbour has them as nearest too,
+    at most ``max_range`` m away: ``(who (M,), their neighbour (M,), distance (M,) m)``, each
+    pair listed from both sides. Empty for fewer than two people."""
+    pos = np.asarray(positions, dtype=float)
+    if pos.shape[0] < 2:
+        empty = np.zeros(0, dtype=np.intp)
+        return empty, empty, np.zeros(0)
+    d = np.linalg.norm(pos[:, None] - pos[None], axis=-1)
+    np.fill_diagonal(d, np.inf)
+    nearest = d.argmin(axis=1)
+    mine = np.arange(pos.shape[0])
+    gap = d[mine, nearest]
+    ok = (nearest[nearest] == mine) & (gap <= max_range)
+    return mine[ok], nearest[ok], gap[ok]

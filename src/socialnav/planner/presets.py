@@ -360,6 +360,14 @@ def footprint_front(robot: RobotModel) -> float:
     return max(0.0, float(robot.polygon[:, 0].max()))
 
 
+def social_goal_options(robot: RobotModel) -> dict[str, float]:
+    """Keyword options of :func:`~socialnav.social.resolve.resolve_social_goal` that depend on
+    the robot: the presenter spot's ``art_clearance`` (:func:`presenter_clearance`) and the
+    queue slot's ``queue_front`` (:func:`footprint_front`). One place, so the planner's rule and
+    the spot a detected-context episode is judged at cannot drift apart."""
+    return {"art_clearance": presenter_clearance(robot), "queue_front": footprint_front(robot)}
+
+
 class StickySocialGoal:
     """Resolve the social goal once and keep it while the people who define it stay put.
 
@@ -564,9 +572,7 @@ def build_navigator(
         costmap,
         goal,
         social_goal_fn=StickySocialGoal(
-            tolerance=preset.spot_tolerance,
-            art_clearance=presenter_clearance(robot),
-            queue_front=footprint_front(robot),
+            tolerance=preset.spot_tolerance, **social_goal_options(robot)
         )
         if preset.social_goal
         else None,

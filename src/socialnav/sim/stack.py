@@ -19,7 +19,7 @@ from socialnav.core.geometry import FloatArray
 from socialnav.core.robot import RobotModel
 from socialnav.core.scene import SocialContext
 from socialnav.planner.local_planner import LocalPlannerParams, PlannerResult, PlannerStatus
-from socialnav.planner.presets import PRESETS, build_navigator, footprint_front, presenter_clearance
+from socialnav.planner.presets import PRESETS, build_navigator, social_goal_options
 from socialnav.planner.recovery import RecoveryParams
 from socialnav.sim.controller import CONTROLLERS, register_controller
 
@@ -76,17 +76,13 @@ class StackController:
 
     def social_goal_options(self) -> dict[str, Any]:
         """Keyword options of :func:`~socialnav.social.resolve.resolve_social_goal` that this
-        stack's social-goal rule uses for the robot of the last :meth:`reset`: the presenter
-        spot's ``art_clearance`` (:func:`~socialnav.planner.presets.presenter_clearance`) and
-        the queue slot's ``queue_front`` (:func:`~socialnav.planner.presets.footprint_front`).
+        stack's social-goal rule uses for the robot of the last :meth:`reset`
+        (:func:`~socialnav.planner.presets.social_goal_options`).
         A context-detected episode measures success at the spot this rule gives on the *true*
         context, so the robot is judged on what it perceived, not on a rule it never used."""
         if self._robot is None or not self.preset_spec.social_goal:
             return {}
-        return {
-            "art_clearance": presenter_clearance(self._robot),
-            "queue_front": footprint_front(self._robot),
-        }
+        return social_goal_options(self._robot)
 
     def reset(
         self, scenario: Scenario, robot: RobotModel, social: SocialContext | None = None
