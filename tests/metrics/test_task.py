@@ -67,12 +67,23 @@ def test_time_not_moving_counts_waiting_before_the_goal(make_record, seg):
     assert m("time_not_moving", rec) == pytest.approx(1.0)
 
 
+def test_bug_extra_time_of_a_holonomic_robot_driving_diagonally_is_not_negative(make_record, seg):
+    """A PR2 ended with extra_time −0.5 s on a queue run: v_max was its forward limit 0.55 m/s,
+    while its base drives at hypot(0.55, 0.3) = 0.63 m/s diagonally."""
+    v = np.hypot(0.55, 0.3)
+    path = seg((0, 0), (10 * 0.55 / v, 10 * 0.3 / v), round(10 / v / 0.1))
+    rec = make_record(path, goal_tolerance=0.01, meta={"robot": "pr2"})
+    assert m("extra_time", rec) >= -0.11  # one control step of discretisation
+
+
 def test_extra_time_uses_max_speed_from_meta(make_record, seg):
     path = seg((0, 0), (10, 0), 200)  # 0.5 m/s, reached at t = 20 s
     rec = make_record(path, goal_tolerance=0.01, meta={"max_speed": 1.0})
     assert m("extra_time", rec) == pytest.approx(20.0 - 9.99)
     pr2 = make_record(path, goal_tolerance=0.01, meta={"robot": "pr2"})
-    assert m("extra_time", pr2) == pytest.approx(20.0 - 9.99 / 0.55)
+    assert m("extra_time", pr2) == pytest.approx(20.0 - 9.99 / np.hypot(0.55, 0.3))
+    pioneer = make_record(path, goal_tolerance=0.01, meta={"robot": "pioneer"})
+    assert m("extra_time", pioneer) == pytest.approx(20.0 - 9.99 / 0.5)
     assert math.isnan(m("extra_time", make_record(path, goal_tolerance=0.01)))
     # arrival at 1.0 m tolerance: at t = 18 s at 0.5 m/s vs 9 m / 1 m/s straight
     loose = make_record(path, goal_tolerance=1.0, meta={"max_speed": 1.0})

@@ -45,6 +45,13 @@ class RobotModel:
         object.__setattr__(self, "_radii", (circumscribed, inscribed))
 
     @property
+    def max_speed(self) -> float:
+        """Top translational speed (m/s): ``hypot(max_vel_x, max_vel_y)`` for a holonomic base
+        (ROS ``base_local_planner`` samples x and y independently; the simulator's
+        omnidirectional kinematics cap the norm there), ``max_vel_x`` otherwise."""
+        return float(np.hypot(self.max_vel_x, self.max_vel_y)) if self.holonomic else self.max_vel_x
+
+    @property
     def polygon(self) -> FloatArray:
         """Footprint vertices ``(V, 2)`` in the body frame."""
         return self._polygon

@@ -106,12 +106,13 @@ def time_not_moving(record: EpisodeRecord) -> float:
 
 
 def max_speed_of(record: EpisodeRecord) -> float | None:
-    """The robot's top forward speed: ``meta["max_speed"]``, else the model named by
-    ``meta["robot"]`` in ``ROBOT_MODELS``, else None."""
+    """The robot's top translational speed (m/s): ``meta["max_speed"]``, else
+    :attr:`~socialnav.core.robot.RobotModel.max_speed` of the model named by ``meta["robot"]``
+    in ``ROBOT_MODELS`` (a holonomic base is faster diagonally than forward), else None."""
     if "max_speed" in record.meta:
         return float(record.meta["max_speed"])
     model = ROBOT_MODELS.get(str(record.meta.get("robot", "")))
-    return None if model is None else model.max_vel_x
+    return None if model is None else model.max_speed
 
 
 @metric("extra_time", unit="s", direction="min")

@@ -15,7 +15,6 @@ Modelling choices (navground agents are discs):
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import SupportsFloat
@@ -42,7 +41,7 @@ def make_kinematics(robot: RobotModel) -> core.Kinematics:
     """navground kinematics for ``robot``: ``Omni`` (holonomic) or ``2WDiff``."""
     if robot.holonomic:
         return core.kinematics.OmnidirectionalKinematics(
-            float(math.hypot(robot.max_vel_x, robot.max_vel_y)), float(robot.max_vel_theta)
+            robot.max_speed, float(robot.max_vel_theta)
         )
     axis = wheel_axis(robot)
     turn = robot.max_vel_theta * axis / 2.0  # wheel speed used by turning at full rate
