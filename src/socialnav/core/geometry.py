@@ -77,6 +77,27 @@ def world_to_body(points: ArrayLike, pose: ArrayLike) -> FloatArray:
     return (np.asarray(points, dtype=float) - np.array([x, y])) @ rotation(yaw)
 
 
+def world_to_body_frames(points: ArrayLike, poses: ArrayLike) -> FloatArray:
+    """Map world points (m) into the body frames of many poses at once.
+
+    ``poses (*S, 3)`` (world ``x, y, yaw``) and ``points (*S, *E, 2)``: the pose dimensions lead
+    and each pose maps the points under it (``E`` may be empty); returns ``(*S, *E, 2)``.
+    :func:`world_to_body` for one pose.
+
+    >>> world_to_body_frames([[2.0, 4.0], [1.0, 0.0]], [[2.0, 3.0, np.pi / 2], [0, 0, 0]]).round(12)
+    array([[1., 0.],
+           [1., 0.]])
+    """
+    pts = np.asarray(points, dtype=float)
+    q = np.asarray(poses, dtype=float)
+    extra = (1,) * (pts.ndim - q.ndim)
+    x, y = q[..., 0].reshape(*q.shape[:-1], *extra), q[..., 1].reshape(*q.shape[:-1], *extra)
+    yaw = q[..., 2].reshape(*q.shape[:-1], *extra)
+    c, s = np.cos(yaw), np.sin(yaw)
+    dx, dy = pts[..., 0] - x, pts[..., 1] - y
+    return np.stack([c * dx + s * dy, -s * dx + c * dy], axis=-1)
+
+
 def point_segment_distance(points: ArrayLike, seg_a: ArrayLike, seg_b: ArrayLike) -> FloatArray:
     """Distances from points ``(..., 2)`` to segments ``(S, 2)``–``(S, 2)``: shape ``(..., S)``.
 

@@ -28,10 +28,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from socialnav.core.episode import EpisodeRecord
-from socialnav.core.geometry import signed_distance_to_polygon
+from socialnav.core.geometry import signed_distance_to_polygon, world_to_body_frames
 from socialnav.core.success import CONDITIONS, ConditionCheck
 from socialnav.metrics.base import MetricFn, metric
-from socialnav.metrics.series import convex_footprint, footprint_gaps, to_body
+from socialnav.metrics.series import convex_footprint, footprint_gaps
 from socialnav.social.proxemics import INTIMATE, PERSONAL
 
 #: speed (m/s) at which the robot's footprint closes on a person, above which it approaches them
@@ -57,7 +57,10 @@ def contact_events(record: EpisodeRecord) -> list[tuple[int, int, int, bool]]:
         # The person held at sample t's position: only the robot's own motion (translation and
         # turning) changes the footprint's signed distance to them.
         at = np.where(present[:, k, None], record.people_positions[:, k], 0.0)[:, None]
-        sd = [signed_distance_to_polygon(to_body(at, q)[:, 0], fp) for q in (before, poses, after)]
+        sd = [
+            signed_distance_to_polygon(world_to_body_frames(at, q)[:, 0], fp)
+            for q in (before, poses, after)
+        ]
         # the step into a sample counts only if the person was there before it
         into_k = np.where(was_present[:, k], (sd[0] - sd[1]) / record.dt, -np.inf)
         approach = np.maximum(into_k, (sd[1] - sd[2]) / record.dt)

@@ -11,16 +11,16 @@ from __future__ import annotations
 import numpy as np
 
 from socialnav.core.episode import EpisodeRecord
-from socialnav.core.geometry import signed_distance_to_polygon
+from socialnav.core.geometry import signed_distance_to_polygon, world_to_body_frames
 from socialnav.metrics.base import metric
-from socialnav.metrics.series import convex_footprint, to_body
+from socialnav.metrics.series import convex_footprint
 
 DISCOMFORT_DISTANCE = 0.2  # m, CrowdNav's ``discomfort_dist``
 
 
 def body_gaps(record: EpisodeRecord) -> np.ndarray:
     """Gap (m) between the footprint and each person's disc at each sample ``(T, K)``."""
-    body = to_body(record.people_positions, record.robot_poses)
+    body = world_to_body_frames(record.people_positions, record.robot_poses)
     return signed_distance_to_polygon(body, convex_footprint(record)) - record.people_radii[None]
 
 

@@ -11,7 +11,11 @@ from numpy.typing import NDArray
 from scipy.spatial import ConvexHull
 
 from socialnav.core.episode import EpisodeRecord
-from socialnav.core.geometry import FloatArray, signed_distance_to_polygon
+from socialnav.core.geometry import (
+    FloatArray,
+    signed_distance_to_polygon,
+    world_to_body_frames,
+)
 
 
 def person_distances(record: EpisodeRecord) -> FloatArray:
@@ -26,7 +30,9 @@ def footprint_gaps(record: EpisodeRecord) -> FloatArray:
     distance from the person's centre to the robot's convex footprint (negative inside);
     negative on contact, ``+inf`` where a person is absent."""
     present = record.people_present
-    body = to_body(np.where(present[..., None], record.people_positions, 0.0), record.robot_poses)
+    body = world_to_body_frames(
+        np.where(present[..., None], record.people_positions, 0.0), record.robot_poses
+    )
     sd = signed_distance_to_polygon(body, convex_footprint(record))
     return np.where(present, sd - record.people_radii[None, :], np.inf)
 
@@ -94,17 +100,6 @@ def line_frame(record: EpisodeRecord) -> tuple[FloatArray, FloatArray, FloatArra
     return origin, u, np.array([-u[1], u[0]])
 
 
-def to_body(points: FloatArray, poses: FloatArray) -> FloatArray:
-    """World points ``(T, ..., 2)`` into the body frame of ``poses (T, 3)``: ``(T, ..., 2)``."""
-    extra = (1,) * (points.ndim - 2)
-    x = poses[:, 0].reshape(-1, *extra)
-    y = poses[:, 1].reshape(-1, *extra)
-    c = np.cos(poses[:, 2]).reshape(-1, *extra)
-    s = np.sin(poses[:, 2]).reshape(-1, *extra)
-    dx, dy = points[..., 0] - x, points[..., 1] - y
-    return np.stack([c * dx + s * dy, -s * dx + c * dy], axis=-1)
-
-
 def convex_footprint(record: EpisodeRecord) -> FloatArray:
     """The footprint's convex hull ``(V, 2)``, counter-clockwise, body frame. The overlap tests
     below need convex shapes; for a non-convex footprint the hull is the conservative choice."""
@@ -127,7 +122,9 @@ def footprint_disc_depth(record: EpisodeRecord, center: FloatArray, radius: floa
     """Penetration depth ``(T,)`` (m, 0 when apart) of the disc ``(center, radius)`` into the
     footprint: ``max(0, radius - sd(center, footprint))`` with ``sd`` the signed distance
     (negative inside) — the minimum translation separating the two shapes."""
-    c_body = to_body(np.broadcast_to(center, (record.num_steps, 2)), record.robot_poses)
+    c_body = world_to_body_frames(
+        np.broadcast_to(center, (record.num_steps, 2)), record.robot_poses
+    )
     sd = signed_distance_to_polygon(c_body, convex_footprint(record))
     return np.maximum(radius - sd, 0.0)
 

@@ -61,7 +61,7 @@ from socialnav.core.geometry import FloatArray, wrap_angle
 from socialnav.core.robot import RobotModel
 from socialnav.core.trajectories import Trajectories
 from socialnav.planner.context import PlanningContext
-from socialnav.planner.critics.interpersonal import approaches
+from socialnav.planner.critics.interpersonal import footprint_approaches
 from socialnav.planner.critics.occupancy import OccupancyCritic
 from socialnav.planner.evasion import (
     closest_approach,
@@ -372,16 +372,16 @@ class RecoveringPlanner:
         return self._out(trajs.twists[k].copy(), PlannerStatus.EVADING, result.record, why)
 
     def _approaching(self, ctx: PlanningContext, trajs: Trajectories) -> np.ndarray:
-        """``(N,)`` rollouts moving toward a person they touch (``critics.interpersonal``)
-        within the first ``APPROACH_HORIZON`` s: the loop replans every cycle, and beyond that
-        the constant-velocity forecast carries people through the robot, after which nearly
-        every move "closes" on someone and no evasion would be left."""
+        """``(N,)`` rollouts whose footprint moves toward a person it touches, turning
+        included (``critics.interpersonal.footprint_approaches``), within the first
+        ``APPROACH_HORIZON`` s: the loop replans every cycle, and beyond that the
+        constant-velocity forecast carries people through the robot, after which nearly every
+        move "closes" on someone and no evasion would be left."""
         keep = trajs.t <= APPROACH_HORIZON
         trajs = Trajectories(trajs.twists, trajs.poses[:, keep], trajs.t[keep])
-        contact = ctx.social.radii() + self.robot.circumscribed_radius
         forecast = ctx.people_at(trajs.t)  # (T, K, 2)
         d2 = squared_distance_minima(trajs, forecast)
-        return approaches(trajs, ctx, d2, contact, APPROACH_SPEED)
+        return footprint_approaches(trajs, ctx, d2, ctx.social.radii(), APPROACH_SPEED)
 
     def _static_ok(self, ctx: PlanningContext, trajs: Trajectories) -> np.ndarray:
         """Legal against the local costmap (people discs included: moving away is allowed)."""

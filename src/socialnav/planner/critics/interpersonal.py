@@ -47,6 +47,11 @@ Deviations and choices:
   the robot's own step between two rollout samples has a component above ``approach_speed``
   (m/s) toward them at a sample in contact — is illegal, reason ``person_approach``. This is
   the rollout form of an *active* collision (Francis et al. 2023; ``socialnav.metrics.crowd``).
+  ``approach_footprint="polygon"`` judges it on the footprint polygon instead of the disc, as
+  the crowd metric does: at a sample where the polygon touches a person, the robot's step into
+  or out of it (translation and turning) brings the polygon closer to the person's centre,
+  held where it is, faster than ``approach_speed``. The disc sees neither a corner swept into
+  someone by a turn on the spot nor a corner beyond the inscribed circle.
   ``person_collision`` (any overlap) is a *soft* reason (``objectives.SOFT_REASONS``): when a
   person walks into the robot whatever it does, it is dropped for the cycle, so the planner
   still chooses among the trajectories that stand still or move away (passive contact)
@@ -67,7 +72,11 @@ import numpy as np
 from numpy.typing import NDArray
 
 from socialnav.core.errors import ConfigurationError
-from socialnav.core.geometry import FloatArray
+from socialnav.core.geometry import (
+    FloatArray,
+    signed_distance_to_polygon,
+    world_to_body_frames,
+)
 from socialnav.core.trajectories import Trajectories
 from socialnav.planner import kernels
 from socialnav.planner.cache import PeopleDistances
@@ -243,6 +252,7 @@ class InterpersonalCritic(Critic):
     partner_margin: float = 0.05
     approach_check: bool = True
     approach_speed: float = 0.02
+    approach_footprint: Literal["disc", "polygon"] = "disc"
     hold_horizon: float = 0.0
 
     def __post_init__(self) -> None:
@@ -262,6 +272,11 @@ class InterpersonalCritic(Critic):
             not isinstance(self.person_slot, int) or self.person_slot < 0
         ):
             raise ConfigurationError("interpersonal: person_slot must be None or an int >= 0")
+        if self.approach_footprint not in ("disc", "polygon"):
+            raise ConfigurationError(
+                "interpersonal: approach_footprint must be disc|polygon, "
+                f"got {self.approach_footprint!r}"
+            )
         if self.footprint_disc not in ("inscribed", "circumscribed"):
             raise ConfigurationError(
                 "interpersonal: footprint_disc must be inscribed|circumscribed"
@@ -287,6 +302,8 @@ class InterpersonalCritic(Critic):
                     reach = reach + radii + robot_r
             if self.collision_check:
                 reach = np.maximum(reach, radii + robot_r)
+                if self.approach_check and self.approach_footprint == "polygon":
+                    reach = np.maximum(reach, radii + ctx.robot.circumscribed_radius)
             d2min = min_squared_distances(trajs, ctx, reach)  # (N, K)
         if (
             d2min is not None
@@ -338,9 +355,7 @@ class InterpersonalCritic(Critic):
                     hit[:, j] = ~np.all(np.diff(dj, axis=1) >= -1e-12, axis=1)
             illegal["person_collision"] = np.asarray(hit.any(axis=1))
             if self.approach_check:
-                illegal["person_approach"] = approaches(
-                    trajs, ctx, d2min, radii + robot_r, self.approach_speed
-                )
+                illegal["person_approach"] = self._approaches(trajs, ctx, d2min, robot_r)
         return CriticScore(np.ascontiguousarray(cost, dtype=float), illegal)
 
     def _score_compiled(
@@ -390,7 +405,9 @@ class InterpersonalCritic(Critic):
                 dj = ((xy - entry.forecast[None, :, j]) ** 2).sum(axis=-1)  # (N, T)
                 hit |= ~np.all(np.diff(dj, axis=1) >= -1e-12, axis=1)
             illegal["person_collision"] = hit
-            if self.approach_check:
+            if self.approach_check and self.approach_footprint == "polygon":
+                illegal["person_approach"] = self._approaches(trajs, ctx, d2min, robot_r)
+            elif self.approach_check:
                 illegal["person_approach"] = kernels.approaches(
                     trajs.poses,
                     trajs.t,
@@ -401,6 +418,62 @@ class InterpersonalCritic(Critic):
                     self.approach_speed,
                 )
         return CriticScore(np.ascontiguousarray(cost, dtype=float), illegal)
+
+    def _approaches(
+        self, trajs: Trajectories, ctx: PlanningContext, d2min: FloatArray, robot_r: float
+    ) -> np.ndarray:
+        radii = ctx.social.radii()
+        if self.approach_footprint == "polygon":
+            return footprint_approaches(trajs, ctx, d2min, radii, self.approach_speed)
+        return approaches(trajs, ctx, d2min, radii + robot_r, self.approach_speed)
+
+
+def footprint_approaches(
+    trajs: Trajectories,
+    ctx: PlanningContext,
+    d2min: FloatArray,
+    radii: FloatArray,
+    speed: float,
+) -> np.ndarray:
+    """``(N,)`` trajectories whose footprint polygon moves toward a person while touching them.
+
+    ``d2min (N, K)``: :func:`min_squared_distances`, exact within ``radii`` plus the robot's
+    circumscribed radius; ``radii (K,)`` the people's (m). At rollout sample ``i`` where the
+    footprint (``ctx.robot.polygon``, body frame) overlaps person ``k``'s disc (forecast by
+    ``ctx.people_at``), the robot's step into ``i`` or out of ``i`` — translation and turning,
+    the person held at their sample-``i`` position — reducing the footprint's signed distance
+    to their centre faster than ``speed`` (m/s) makes the trajectory illegal: the rule by which
+    ``socialnav.metrics.crowd`` calls a recorded contact *active* (Francis et al. 2023). People
+    who never come within the circumscribed reach of any trajectory are skipped.
+    """
+    n = len(trajs)
+    out = np.zeros(n, dtype=bool)
+    polygon = ctx.robot.polygon
+    reach2 = ((radii + ctx.robot.circumscribed_radius) * (1.0 + 1e-9)) ** 2  # (K,)
+    pairs = d2min < reach2[None]  # (N, K)
+    near = np.flatnonzero(pairs.any(axis=0))
+    if near.size == 0 or trajs.t.shape[0] < 2:
+        return out
+    forecast = ctx.people_at(trajs.t)  # (T, K, 2)
+    dt = np.maximum(np.diff(trajs.t), 1e-9)[None, :]  # (1, T-1)
+    for k in near:
+        rows = np.flatnonzero(pairs[:, k])
+        poses = trajs.poses[rows]  # (R, T, 3)
+        at = np.broadcast_to(forecast[:, k], (*poses.shape[:2], 2))  # (R, T, 2)
+        sd = signed_distance_to_polygon(world_to_body_frames(at, poses), polygon)  # (R, T)
+        # the person at sample i seen from the pose before i and the pose after i
+        sd_before = signed_distance_to_polygon(
+            world_to_body_frames(at[:, 1:], poses[:, :-1]), polygon
+        )
+        sd_after = signed_distance_to_polygon(
+            world_to_body_frames(at[:, :-1], poses[:, 1:]), polygon
+        )
+        closing = np.zeros_like(sd)
+        closing[:, 1:] = (sd_before - sd[:, 1:]) / dt
+        closing[:, :-1] = np.maximum(closing[:, :-1], (sd[:, :-1] - sd_after) / dt)
+        closing[:, -1] = np.maximum(closing[:, -1], 0.0)  # no step leaves the last sample
+        out[rows] |= ((sd < radii[k]) & (closing > speed)).any(axis=1)
+    return out
 
 
 def approaches(
