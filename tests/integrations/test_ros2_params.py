@@ -26,6 +26,7 @@ from socialnav.integrations.ros2.params import (
     load_params_file,
     local_planner_params,
     param_specs,
+    planner_defaults,
     robot_from_params,
 )
 from socialnav.planner.local_planner import LocalPlannerParams
@@ -44,12 +45,42 @@ def test_every_planner_field_is_a_parameter_with_range_and_description() -> None
         if f.name == "controller_period":
             continue  # from controller_frequency
         spec = specs[f.name]
-        assert spec.description and spec.default == getattr(LocalPlannerParams(), f.name)
+        assert spec.description and spec.default == getattr(planner_defaults("paccet"), f.name)
         if spec.kind in (int, float):
             assert spec.min is not None and spec.max is not None
             assert spec.min <= spec.default <= spec.max
     assert set(specs) >= DYNAMIC and all(specs[n].dynamic for n in DYNAMIC)
     assert not specs["planner"].dynamic and not specs["max_vel_x"].dynamic
+
+
+def test_bug_the_planner_parameters_default_to_the_chosen_presets() -> None:
+    # The node declared LocalPlannerParams() for every planner, so `paccet` on a robot ran
+    # without the rollouts that stop at the goal, the 0.07 m tolerance and the goal term along
+    # the plan that the suites measured.
+    from socialnav.planner.presets import PRESETS
+
+    for planner in ("paccet", "traditional"):
+        specs = param_specs("pr2", planner)
+        values = {s.name: s.default for s in specs}
+        assert values["planner"] == planner
+        want = PRESETS.get(planner).params or LocalPlannerParams()
+        got = local_planner_params(values)
+        assert dataclasses.replace(got, controller_period=want.controller_period) == want
+    paccet = {s.name: s.default for s in param_specs(planner="paccet")}
+    assert paccet["stop_at_goal"] is True
+    assert paccet["goal_distance_measure"] == "along_plan"
+
+
+def test_a_params_file_is_checked_against_its_planners_defaults(tmp_path: Path) -> None:
+    path = tmp_path / "p.yaml"
+    path.write_text(
+        "socialnav:\n  ros__parameters:\n    planner: traditional\n"
+        "    goal_distance_measure: along_plan\n"
+    )
+    assert load_params_file(path)["goal_distance_measure"] == "along_plan"
+    path.write_text("socialnav:\n  ros__parameters:\n    goal_distance_measure: euclid\n")
+    with pytest.raises(ConfigurationError, match=r"goal_distance_measure.*bfs, along_plan"):
+        load_params_file(path)
 
 
 def test_robot_limits_default_to_the_model() -> None:

@@ -371,3 +371,20 @@ def test_turn_clearance_is_the_footprint_to_disc_gap_over_the_turn():
     swept = turn_clearance(np.zeros(3), np.pi / 2, PR2, ctx)
     assert swept == pytest.approx(0.72 - corner - 0.25, abs=1e-4)
     assert turn_clearance(np.array([5.0, 5.0, 0.0]), 3.0, PR2, ctx) == np.inf
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(("family", "seed"), [("crowdnav_visible", 87), ("gallery_pass", 9)])
+def test_bug_pioneer_follows_a_plan_that_reaches_the_goal_from_the_side(family, seed):
+    """Generated dev seeds, Pioneer: someone stands near the goal, so the social global plan
+    reaches it from the side. Following the plan raised the free-space goal distance, cutting
+    toward the goal raised the path distance, and turning on the spot (heading along the plan)
+    cost least: the robot dithered 2.3-2.6 m short of the goal until the time limit. The goal
+    term now measures the plan's length still to go (``critics.plan_progress``)."""
+    from socialnav.metrics.success import success_conditions
+    from socialnav.sim.generate import generate
+    from socialnav.sim.runner import run_episode
+
+    record = run_episode(generate(family, seed), "paccet", "pioneer", seed=seed).record
+    failed = [c.name for c in success_conditions(record) if c.required and not c.passed]
+    assert failed == []

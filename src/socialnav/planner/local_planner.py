@@ -50,6 +50,7 @@ from socialnav.planner.critics.goal_distance import GoalDistanceCritic
 from socialnav.planner.critics.heading import HeadingCritic
 from socialnav.planner.critics.occupancy import OccupancyCritic
 from socialnav.planner.critics.path_distance import PathDistanceCritic
+from socialnav.planner.critics.plan_progress import PlanProgressCritic
 from socialnav.planner.objectives import Evaluation, Objective, evaluate
 from socialnav.planner.record import EvaluationRecord
 from socialnav.planner.rollout import rollout, validate_rollout
@@ -128,6 +129,10 @@ class LocalPlannerParams:
     # scoring (meter scoring)
     path_distance_bias: float = 0.6
     goal_distance_bias: float = 0.8
+    # "bfs": ROS GoalCostFunction (free-space BFS to the local goal); "along_plan": the plan's
+    # length still to go from the end point (critics.plan_progress), so following a plan that
+    # bends away from the straight line to the goal is progress
+    goal_distance_measure: str = "bfs"
     occdist_scale: float = 0.01
     heading_scale: float = 0.2
     heading_lookahead: float = 0.325
@@ -143,6 +148,11 @@ class LocalPlannerParams:
             validate_rollout(self)
         except ValueError as exc:
             raise ConfigurationError(str(exc)) from None
+        if self.goal_distance_measure not in ("bfs", "along_plan"):
+            raise ConfigurationError(
+                "goal_distance_measure must be bfs or along_plan, "
+                f"got {self.goal_distance_measure!r}"
+            )
         if self.rollout_dtype not in ("float64", "float32"):
             raise ConfigurationError(
                 f"rollout_dtype must be float64 or float32, got {self.rollout_dtype!r}"
@@ -225,9 +235,12 @@ def stop_at_goal(trajs: Trajectories, goal: FloatArray, tolerance: float) -> Tra
 def traditional_objectives(params: LocalPlannerParams | None = None) -> tuple[Objective, ...]:
     """The single "navigation" objective: path, goal, occupancy and heading terms."""
     p = params or LocalPlannerParams()
+    goal: Critic = GoalDistanceCritic()
+    if p.goal_distance_measure == "along_plan":
+        goal = PlanProgressCritic()
     terms: tuple[tuple[Critic, float], ...] = (
         (PathDistanceCritic(), p.path_distance_bias),
-        (GoalDistanceCritic(), p.goal_distance_bias),
+        (goal, p.goal_distance_bias),
         (OccupancyCritic(footprint=p.footprint_check), p.occdist_scale),
         (HeadingCritic(heading_lookahead=p.heading_lookahead), p.heading_scale),
     )

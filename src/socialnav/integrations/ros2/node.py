@@ -152,11 +152,17 @@ class SocialNavNode(LifecycleNode):  # type: ignore[misc]
 
     def __init__(self, node_name: str = DEFAULT_NODE_NAME, **kwargs: Any) -> None:
         super().__init__(node_name, **kwargs)
-        spec = next(s for s in param_specs() if s.name == "robot_model")
-        model: Any = self.declare_parameter(spec.name, spec.default, _descriptor(spec)).value
-        self.specs = {s.name: s for s in param_specs(str(model))}
+        # The robot model and the planner set other parameters' defaults: declared first.
+        first = {s.name: s for s in param_specs() if s.name in ("robot_model", "planner")}
+        chosen: dict[str, Any] = {
+            name: self.declare_parameter(name, spec.default, _descriptor(spec)).value
+            for name, spec in first.items()
+        }
+        self.specs = {
+            s.name: s for s in param_specs(str(chosen["robot_model"]), str(chosen["planner"]))
+        }
         for spec in self.specs.values():
-            if spec.name != "robot_model":
+            if spec.name not in first:
                 self.declare_parameter(spec.name, spec.default, _descriptor(spec))
         self.add_on_set_parameters_callback(self._on_set_parameters)
         self.state = "unconfigured"

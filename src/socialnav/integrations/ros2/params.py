@@ -105,6 +105,11 @@ _PLANNER: dict[str, tuple[float | None, float | None, str]] = {
     "theta_stopped_vel": (0.0, 1.0, "rad/s, below this the robot counts as not turning"),
     "path_distance_bias": (0.0, 100.0, "weight of the distance to the global path"),
     "goal_distance_bias": (0.0, 100.0, "weight of the distance to the local goal"),
+    "goal_distance_measure": (
+        None,
+        None,
+        "bfs (free-space distance to the local goal, ROS) or along_plan (plan length to go)",
+    ),
     "occdist_scale": (0.0, 100.0, "weight of the costmap cost along the trajectory"),
     "heading_scale": (0.0, 100.0, "weight of the heading error to the path ahead, per rad"),
     "heading_lookahead": (0.0, 5.0, "m, how far along the path the heading critic looks"),
@@ -112,6 +117,11 @@ _PLANNER: dict[str, tuple[float | None, float | None, str]] = {
     "rollout_dtype": (None, None, "float64 or float32 rollouts (float32 ~1.5x faster)"),
     "oscillation_reset_dist": (0.0, 5.0, "m, motion that clears the oscillation guard"),
     "oscillation_reset_angle": (0.0, math.pi, "rad, rotation that clears the oscillation guard"),
+}
+# The string parameters' allowed values.
+_CHOICES = {
+    "rollout_dtype": ("float64", "float32"),
+    "goal_distance_measure": ("bfs", "along_plan"),
 }
 # controller_period is set from the node's controller_frequency (Nav2's name for it).
 _DERIVED = {"controller_period"}
@@ -208,18 +218,28 @@ def _planner_specs(defaults: LocalPlannerParams) -> list[ParamSpec]:
             raise ConfigurationError(f"LocalPlannerParams.{f.name} has no ROS parameter entry")
         lo, hi, text = _PLANNER[f.name]
         default = getattr(defaults, f.name)
-        choices = ("float64", "float32") if f.name == "rollout_dtype" else ()
+        choices = _CHOICES.get(f.name, ())
         out.append(ParamSpec(f.name, default, text, lo, hi, choices, f.name in DYNAMIC))
     return out
 
 
-def param_specs(robot_model: str = "pioneer") -> list[ParamSpec]:
-    """Every parameter the node declares; robot limits default to ``robot_model``'s."""
+def planner_defaults(planner: str) -> LocalPlannerParams:
+    """The local-planner parameters ``planner``'s preset runs with (``PlannerPreset.params``;
+    ``LocalPlannerParams()`` for a preset without its own, or an unknown name): the node's
+    defaults, so a robot runs the configuration the suites measured."""
+    preset = PRESETS.get(planner) if planner in PRESETS.names() else None
+    params = preset.params if preset is not None else None
+    return params if params is not None else LocalPlannerParams()
+
+
+def param_specs(robot_model: str = "pioneer", planner: str = "paccet") -> list[ParamSpec]:
+    """Every parameter the node declares; robot limits default to ``robot_model``'s, the
+    local planner's parameters to ``planner``'s preset (:func:`planner_defaults`)."""
     robot = ROBOT_MODELS.get(robot_model, ROBOT_MODELS["pioneer"])
-    specs = list(_NODE)
+    specs = [dataclasses.replace(s, default=planner) if s.name == "planner" else s for s in _NODE]
     for name, (lo, hi, text) in _ROBOT.items():
         specs.append(ParamSpec(name, float(getattr(robot, name)), text, lo, hi))
-    specs += _planner_specs(LocalPlannerParams())
+    specs += _planner_specs(planner_defaults(planner))
     return specs
 
 
@@ -327,8 +347,14 @@ def load_params_file(path: str | Path, node_name: str = DEFAULT_NODE_NAME) -> di
         if not isinstance(section, dict) or not isinstance(section.get("ros__parameters"), dict):
             raise ConfigurationError(f"{where}: {key}: expected a 'ros__parameters' mapping")
         _flatten("", section["ros__parameters"], raw)
-    model = raw.get("robot_model", "pioneer")
-    specs = {s.name: s for s in param_specs(model if isinstance(model, str) else "pioneer")}
+    model, planner = raw.get("robot_model", "pioneer"), raw.get("planner", "paccet")
+    specs = {
+        s.name: s
+        for s in param_specs(
+            model if isinstance(model, str) else "pioneer",
+            planner if isinstance(planner, str) else "paccet",
+        )
+    }
     out: dict[str, Value] = {}
     for name, value in raw.items():
         if name not in specs:
