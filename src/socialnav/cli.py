@@ -563,6 +563,13 @@ def ros2(
     robot_model: Annotated[
         str, typer.Option(help="With --list-params: the model whose limits are the defaults.")
     ] = "pioneer",
+    planner: Annotated[
+        str,
+        typer.Option(
+            help="With --list-params: the preset whose local-planner parameters are the "
+            "defaults (a --params file's robot_model and planner take precedence)."
+        ),
+    ] = "paccet",
 ) -> None:
     """Run the socialnav ROS 2 lifecycle node; arguments after --ros-args go to ROS."""
     import importlib.util
@@ -572,9 +579,20 @@ def ros2(
     from socialnav.integrations.ros2.params import load_params_file, param_specs
 
     if list_params:
+        if params is not None:
+            try:
+                given = load_params_file(params)
+            except ConfigurationError as exc:
+                _fail(str(exc))
+                return
+            robot_model = str(given.get("robot_model", robot_model))
+            planner = str(given.get("planner", planner))
+        else:
+            given = {}
         typer.echo("| parameter | default | range or choices | changeable at run time | meaning |")
         typer.echo("|---|---|---|---|---|")
-        for spec in param_specs(robot_model):
+        for spec in param_specs(robot_model, planner):
+            default = given.get(spec.name, spec.default)
             if spec.choices:
                 bounds = ", ".join(spec.choices)
             elif spec.min is not None or spec.max is not None:
@@ -584,9 +602,7 @@ def ros2(
             else:
                 bounds = ""
             dynamic = "yes" if spec.dynamic else "no"
-            typer.echo(
-                f"| `{spec.name}` | {spec.default} | {bounds} | {dynamic} | {spec.description} |"
-            )
+            typer.echo(f"| `{spec.name}` | {default} | {bounds} | {dynamic} | {spec.description} |")
         return
 
     # the params file is checked even without ROS, and a missing extra is always named
@@ -594,6 +610,7 @@ def ros2(
     if params is not None:
         try:
             load_params_file(params)
+            typer.echo(f"{params}: parameters OK", err=True)
         except ConfigurationError as exc:
             problems.append(str(exc))
     if importlib.util.find_spec("rclpy") is None:

@@ -198,6 +198,40 @@ def test_ros2_command_without_the_extra_names_it_even_when_the_params_file_is_ba
     assert "pip install 'socialnav[ros]'" in result.output
 
 
+def test_bug_parameters_missing_from_a_params_file_are_the_presets(tmp_path: Path) -> None:
+    # local_planner_params filled what a file left out with LocalPlannerParams(): a file naming
+    # only the planner gave paccet the ROS defaults (newcomer trial).
+    path = write(tmp_path, "socialnav:\n  ros__parameters:\n    planner: paccet\n")
+    got = local_planner_params(load_params_file(path))
+    assert got == planner_defaults("paccet")
+    assert got.goal_distance_measure == "along_plan" and got.stop_at_goal
+    path = write(tmp_path, "socialnav:\n  ros__parameters:\n    planner: traditional\n")
+    assert local_planner_params(load_params_file(path)) == LocalPlannerParams()
+
+
+def test_list_params_shows_the_defaults_of_the_planner_and_of_a_params_file(
+    tmp_path: Path,
+) -> None:
+    def row(args: list[str], name: str) -> str:
+        result = CliRunner().invoke(app, ["ros2", "--list-params", *args])
+        assert result.exit_code == 0, result.output
+        return next(line for line in result.output.splitlines() if f"`{name}`" in line)
+
+    assert "| along_plan |" in row([], "goal_distance_measure")
+    assert "| bfs |" in row(["--planner", "traditional"], "goal_distance_measure")
+    path = write(
+        tmp_path, "socialnav:\n  ros__parameters:\n    planner: traditional\n    sim_time: 2.5\n"
+    )
+    assert "| bfs |" in row(["--params", str(path)], "goal_distance_measure")
+    assert "| 2.5 |" in row(["--params", str(path)], "sim_time")
+
+
+def test_a_good_params_file_is_said_to_be_ok(tmp_path: Path) -> None:
+    path = write(tmp_path, "socialnav:\n  ros__parameters:\n    planner: traditional\n")
+    result = CliRunner().invoke(app, ["ros2", "--params", str(path)])
+    assert f"{path}: parameters OK" in result.output
+
+
 def test_ros2_command_checks_the_params_file_first(tmp_path: Path) -> None:
     path = write(tmp_path, "socialnav:\n  ros__parameters:\n    max_vel_x: -1.0\n")
     result = CliRunner().invoke(app, ["ros2", "--params", str(path)])

@@ -103,7 +103,14 @@ class PlannerResult:
 
 @dataclass(frozen=True)
 class LocalPlannerParams:
-    """ROS-named parameters (SI units, radians). See the module docstring for the choices."""
+    """ROS-named parameters (SI units, radians). See the module docstring for the choices.
+
+    Beyond ROS's names: ``stop_at_goal`` (rollouts that reach the goal stand on it, ranked by
+    ``arrival_time_scale`` s⁻¹), ``goal_distance_measure`` (``bfs``: ROS ``GoalCostFunction``,
+    the free-space BFS distance to the local goal; ``along_plan``: the plan's length still to
+    go, :mod:`~socialnav.planner.critics.plan_progress`, legality unchanged),
+    ``footprint_check`` and ``rollout_dtype``. ``ConfigurationError`` on a value out of range.
+    """
 
     # sampling (dynamic window, DWA mode)
     vx_samples: int = 6

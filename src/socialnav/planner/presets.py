@@ -20,7 +20,12 @@
   partners at the interaction's own distance in ID (``partner_objectives``); arrival inside
   ``RECOMMENDED_SPOT_TOLERANCE`` at social spots; rollouts that stop at the goal
   (``LocalPlannerParams.stop_at_goal``) inside a 0.07 m tolerance; walkers' passing distance
-  in ID (``PASSING_HORIZON``). These were measured on the generated suite's development seeds
+  in ID (``PASSING_HORIZON``); the approach rule on the footprint polygon, turning included
+  (``InterpersonalCritic.approach_footprint``, ``partner_objectives``); the goal term along the
+  plan (``LocalPlannerParams.goal_distance_measure``, ``RECOMMENDED_PARAMS``). ``params``
+  passed to :func:`build_navigator` replace the preset's whole ``LocalPlannerParams``: start
+  from ``dataclasses.replace(RECOMMENDED_PARAMS, ...)`` to change one field of ``paccet``.
+  These were measured on the generated suite's development seeds
   (``benchmarks/tune_generated.py``) and Table 1. Measured and left off: walkers' personal
   space where the robot can meet them and replan hysteresis (``MEETING_LAYER``,
   ``RECOMMENDED_HYSTERESIS``; ``benchmarks/time_breakdown.py``).

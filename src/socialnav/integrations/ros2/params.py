@@ -389,9 +389,10 @@ def robot_from_params(values: dict[str, Any]) -> RobotModel:
 
 
 def local_planner_params(values: dict[str, Any]) -> LocalPlannerParams:
-    """:class:`LocalPlannerParams` from the parameter ``values`` (missing ones: defaults)."""
+    """:class:`LocalPlannerParams` from the parameter ``values``; missing ones are the
+    ``planner`` preset's (:func:`planner_defaults`, ``paccet`` when ``planner`` is missing)."""
     names = {f.name for f in dataclasses.fields(LocalPlannerParams)} - _DERIVED
     kwargs = {k: values[k] for k in names if k in values}
     if "controller_frequency" in values:
         kwargs["controller_period"] = 1.0 / float(values["controller_frequency"])
-    return LocalPlannerParams(**kwargs)
+    return dataclasses.replace(planner_defaults(str(values.get("planner", "paccet"))), **kwargs)

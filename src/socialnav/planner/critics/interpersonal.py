@@ -235,7 +235,12 @@ class InterpersonalCritic(Critic):
 
     Parameters: ``threshold`` (m, 1.5), ``distance`` (``center`` | ``edge``), ``evaluation``
     (``last`` | ``max_over_time``), ``person_slot`` (int >= 0 or None), ``min_distance`` (m, the
-    cap), ``footprint_disc`` (``inscribed`` | ``circumscribed``), ``collision_check`` (bool).
+    cap), ``footprint_disc`` (``inscribed`` | ``circumscribed``), ``collision_check`` (bool),
+    ``partner_distance`` (bool) and ``partner_margin`` (m, 0.05), ``approach_check`` (bool),
+    ``approach_speed`` (m/s, 0.02) and ``approach_footprint`` (``disc`` | ``polygon``),
+    ``hold_horizon`` (s, 0 = off); each is described in the module docstring. Use:
+    ``InterpersonalCritic(...).score(trajs, ctx)`` with a
+    :class:`~socialnav.planner.context.PlanningContext` (no ``prepare`` needed).
     """
 
     name: ClassVar[str] = "interpersonal"

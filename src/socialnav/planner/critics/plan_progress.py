@@ -12,8 +12,9 @@ in the path-following critics of Nav2's MPPI controller (``PathFollowCritic``,
 
 Exact definition (m), at the end point ``(x, y)`` of each trajectory:
 1. ``i`` = nearest vertex of the global plan densified to ``spacing`` m, searched only among the
-   vertices within ``horizon`` m of plan length from its start (the planner's reach + 2 m, as the
-   heading critic), so a plan that loops back near the robot does not shortcut the search;
+   vertices within the planner's reach + ``margin`` m (default 2 m, as the heading critic) of
+   plan length from its start, so a plan that loops back near the robot does not shortcut the
+   search;
 2. cost = (plan length from vertex ``i`` to the plan's end) + ``|(x, y) − vertex i|``.
 At the plan's end it is the straight-line distance to the goal. Legality is the goal-distance
 critic's (it shares that critic's BFS grid): an end point from which the local goal cannot be
