@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from _planner_helpers import blank, context
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -25,22 +26,12 @@ from socialnav.planner.critics.interpersonal import (
     min_squared_distances,
 )
 from socialnav.planner.rollout import RolloutParams, rollout
-from socialnav.world.grid import Costmap, GridGeometry
 
 SPEED = 0.02
 
 
 def _ctx(people: tuple[Person, ...], robot: RobotModel = PR2) -> PlanningContext:
-    costmap = Costmap(np.zeros((4, 4), np.uint8), GridGeometry((4, 4), 1.0))
-    return PlanningContext(
-        pose=np.zeros(3),
-        velocity=np.zeros(3),
-        goal=np.zeros(3),
-        global_path=np.zeros((0, 2)),
-        costmap=costmap,
-        robot=robot,
-        social=SocialContext(people),
-    )
+    return context(blank(4, 4, 1.0), robot, social=SocialContext(people))
 
 
 def _rollouts(twists, robot: RobotModel = PR2, sim_time: float = 1.5):
