@@ -460,24 +460,27 @@ def footprint_approaches(
     if near.size == 0 or trajs.t.shape[0] < 2:
         return out
     forecast = ctx.people_at(trajs.t)  # (T, K, 2)
-    dt = np.maximum(np.diff(trajs.t), 1e-9)[None, :]  # (1, T-1)
+    dt = np.maximum(np.diff(trajs.t), 1e-9)  # (T-1,)
+    last = trajs.t.shape[0] - 1
     for k in near:
         rows = np.flatnonzero(pairs[:, k])
         poses = trajs.poses[rows]  # (R, T, 3)
-        at = np.broadcast_to(forecast[:, k], (*poses.shape[:2], 2))  # (R, T, 2)
-        sd = signed_distance_to_polygon(world_to_body_frames(at, poses), polygon)  # (R, T)
-        # the person at sample i seen from the pose before i and the pose after i
-        sd_before = signed_distance_to_polygon(
-            world_to_body_frames(at[:, 1:], poses[:, :-1]), polygon
-        )
-        sd_after = signed_distance_to_polygon(
-            world_to_body_frames(at[:, :-1], poses[:, 1:]), polygon
-        )
-        closing = np.zeros_like(sd)
-        closing[:, 1:] = (sd_before - sd[:, 1:]) / dt
-        closing[:, :-1] = np.maximum(closing[:, :-1], (sd[:, :-1] - sd_after) / dt)
-        closing[:, -1] = np.maximum(closing[:, -1], 0.0)  # no step leaves the last sample
-        out[rows] |= ((sd < radii[k]) & (closing > speed)).any(axis=1)
+        # Only samples within the circumscribed reach can touch: judge those alone.
+        rel = poses[..., :2] - forecast[None, :, k]
+        r_i, t_i = np.nonzero((rel * rel).sum(axis=-1) < reach2[k])  # (M,) each
+        if r_i.size == 0:
+            continue
+        at = forecast[t_i, k]  # (M, 2) the person at sample i, held there
+        before, after = np.maximum(t_i - 1, 0), np.minimum(t_i + 1, last)
+        # the person seen from the pose at sample i, the pose before it and the pose after it
+        q = np.concatenate([poses[r_i, t_i], poses[r_i, before], poses[r_i, after]])
+        sd = signed_distance_to_polygon(world_to_body_frames(np.tile(at, (3, 1)), q), polygon)
+        here, from_before, to_after = sd.reshape(3, -1)
+        touch = here < radii[k]
+        into = np.where(t_i > 0, (from_before - here) / dt[before], -np.inf)
+        leave = np.where(t_i < last, (here - to_after) / dt[np.minimum(t_i, last - 1)], 0.0)
+        hit = touch & (np.maximum(into, leave) > speed)
+        out[rows[np.unique(r_i[hit])]] = True
     return out
 
 
