@@ -32,7 +32,7 @@ import numpy as np
 
 from socialnav.core.trajectories import Trajectories
 from socialnav.planner import kernels
-from socialnav.planner.critics.base import CRITICS, CriticScore, CriticUnavailable
+from socialnav.planner.critics.base import CRITICS, CriticScore
 from socialnav.planner.critics.goal_distance import GoalDistanceCritic
 from socialnav.planner.critics.map_grid import densify_path
 
@@ -61,12 +61,11 @@ class PlanProgressCritic(GoalDistanceCritic):
         """Remaining plan length (m) ``(N,)`` from each end point (see the module docstring)
         and the goal-distance critic's illegal masks.
 
-        Raises :class:`CriticUnavailable` on an empty global plan or none of it in view."""
+        Raises :class:`~socialnav.planner.critics.base.CriticUnavailable` when no plan cell is
+        in view (an empty plan included)."""
+        # the goal distance's grid raises CriticUnavailable when no plan cell is in view
         legality = super().score(trajs, ctx).illegal
-        path = np.asarray(ctx.global_path, dtype=float).reshape(-1, 2)
-        if path.shape[0] == 0:
-            raise CriticUnavailable("empty global plan")
-        dense = densify_path(path, self.spacing)
+        dense = densify_path(np.asarray(ctx.global_path, dtype=float).reshape(-1, 2), self.spacing)
         seg = np.hypot(*np.diff(dense, axis=0).T)
         s = np.concatenate([[0.0], np.cumsum(seg)])
         reach = ctx.cache.reach
