@@ -388,3 +388,71 @@ def test_bug_pioneer_follows_a_plan_that_reaches_the_goal_from_the_side(family, 
     record = run_episode(generate(family, seed), "paccet", "pioneer", seed=seed).record
     failed = [c.name for c in success_conditions(record) if c.required and not c.passed]
     assert failed == []
+
+
+def test_paccet_social_objectives_carry_the_indifference_threshold_the_paper_preset_none():
+    from socialnav.planner.presets import (
+        PRESETS,
+        SOCIAL_INDIFFERENCE,
+        LocalPlannerParams,
+        SceneObjectives,
+    )
+
+    social = SocialContext((Person(1, (2.0, 0.0)), Person(2, (2.0, 1.0))))
+    objectives, selection = SceneObjectives(PRESETS.get("paccet"), LocalPlannerParams()).for_scene(
+        social
+    )
+    assert [o.indifference for o in objectives] == [0.0, SOCIAL_INDIFFERENCE]
+    assert selection.options.indifference == (0.0, SOCIAL_INDIFFERENCE)
+    _, paper = SceneObjectives(PRESETS.get("paccet_paper"), LocalPlannerParams()).for_scene(social)
+    assert paper.options.indifference is None
+
+
+@pytest.mark.slow
+def test_bug_pioneer_beside_a_standing_person_turns_to_the_goal_instead_of_dithering():
+    """Generated crowdnav dev seed 34, Pioneer: beside a person standing 1.08 m away, facing
+    away from the goal, every candidate's ID was within 1e-6 of the others'. Normalized by that
+    range, a 1e-6 lower ID outweighed turning toward the goal (0.155 better in navigation):
+    the robot crept at 0.01 m/s, then waited beside the person until the time limit. Social
+    objectives now carry an indifference threshold (``PaccetOptions.indifference``)."""
+    from socialnav.metrics.success import success_conditions
+    from socialnav.sim.generate import generate
+    from socialnav.sim.runner import run_episode
+
+    record = run_episode(generate("crowdnav", 34), "paccet", "pioneer", seed=34).record
+    failed = [c.name for c in success_conditions(record) if c.required and not c.passed]
+    assert failed == []
+
+
+def test_bug_evasive_and_recovery_moves_keep_out_of_a_groups_o_space():
+    """Generated mixed dev seed 45, PR2 (with an earlier objective setting): giving way's moves
+    were checked against the costmap and the walkers, not the group, and one stepped into the
+    o-space, where no trajectory of the planner was legal; the robot waited inside until the
+    time limit. Evasive and recovery moves now keep out of o-spaces, with the group critic's
+    escape from inside."""
+    from socialnav.planner.context import PlanningContext
+    from socialnav.planner.presets import build_local_planner
+    from socialnav.planner.recovery import RecoveringPlanner
+    from socialnav.world.grid import Costmap, GridGeometry
+
+    a = np.radians([90, 180, 270])
+    people = tuple(Person(i, (0.9 * np.cos(x), 0.9 * np.sin(x))) for i, x in enumerate(a))
+    social = SocialContext(people, groups=(Group((0, 1, 2)),))  # o-space radius 0.6 at 0
+    costmap = Costmap(np.zeros((80, 80), np.uint8), GridGeometry((80, 80), 0.1, (-4.0, -4.0)))
+    planner = RecoveringPlanner(build_local_planner("paccet", PR2, social))
+
+    def ctx(pose):
+        return PlanningContext(
+            np.asarray(pose, float),
+            np.zeros(3),
+            np.zeros(3),
+            np.zeros((1, 2)),
+            costmap,
+            PR2,
+            social=social,
+        )
+
+    moves = straight([(0.3, 0.0), (2.5, 0.0)], start=(1.5, 0.0))  # into the o-space, away
+    assert planner._static_ok(ctx((1.5, 0.0, np.pi)), moves).tolist() == [False, True]
+    out = straight([(0.1, 0.0), (2.5, 0.0)], start=(0.4, 0.0))  # from inside: deeper, out
+    assert planner._static_ok(ctx((0.4, 0.0, 0.0)), out).tolist() == [False, True]

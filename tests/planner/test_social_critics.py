@@ -278,3 +278,48 @@ def test_registered_and_validated():
     for make in bad:
         with pytest.raises(ConfigurationError):
             make()
+
+
+def test_bug_inside_an_o_space_only_going_deeper_is_illegal():
+    """Generated mixed dev seed 45, PR2: giving way stepped into the group's o-space, where
+    every trajectory entered it, so none was legal and the robot waited inside until the time
+    limit. From inside, only a trajectory nearer the centre than now intrudes (an escape, as
+    for a person overlapping the robot); from outside, nothing changes."""
+    ctx = group_ctx()  # o-space: centre (0, 0), radius 0.6
+    inside = make_ctx(ctx.social, pose=(0.3, 0.0, 0.0))
+    t = np.linspace(0.0, 1.0, 5)
+    moves = Trajectories(
+        np.zeros((4, 3)),
+        np.concatenate(
+            [
+                stationary((0.3, 0.0), t).poses,
+                straight([(1.5, 0.0)], start=(0.3, 0.0)).poses,
+                straight([(0.1, 0.0)], start=(0.3, 0.0)).poses,
+                straight([(0.3, 0.05)], start=(0.3, 0.0)).poses,  # tangent: never nearer
+            ]
+        ),
+        t,
+    )
+    critic = GroupCritic(evaluation="max_over_time", illegal_inside=True)
+    np.testing.assert_array_equal(
+        critic.score(moves, inside).illegal["ospace_intrusion"], [False, False, True, False]
+    )
+    outside = make_ctx(ctx.social, pose=(1.5, 0.0, 0.0))
+    entering = straight([(0.3, 0.0), (2.5, 0.0)], start=(1.5, 0.0))
+    np.testing.assert_array_equal(
+        critic.score(entering, outside).illegal["ospace_intrusion"], [True, False]
+    )
+
+
+def test_inside_an_activity_space_only_going_deeper_is_illegal():
+    ctx = art_ctx()  # viewer 2 m in front of the artwork: the space between them
+    inside = make_ctx(ctx.social, pose=(0.0, 1.0, 0.0))
+    t = np.linspace(0.0, 1.0, 5)
+    still = stationary((0.0, 1.0), t)
+    leaving = straight([(3.0, 1.0)], start=(0.0, 1.0))
+    deeper = straight([(0.5, 1.0)], start=(0.95, 1.0))
+    critic = ActivitySpaceCritic(illegal_inside=True)
+    for trajs, expected in ((still, False), (leaving, False)):
+        assert critic.score(trajs, inside).illegal["activity_space_intrusion"][0] == expected
+    edge = make_ctx(ctx.social, pose=(0.95, 1.0, 0.0))
+    assert critic.score(deeper, edge).illegal["activity_space_intrusion"][0]

@@ -30,6 +30,15 @@ behaviour is ``PaccetOptions.reference()``):
   archive (``hi + max(|hi|, 1)`` if span is 0; the sentinel itself if no regular value). They
   stay the worst value of their objective and tie among themselves, but no longer squash the
   normalization of the regular values;
+- ``indifference`` (default off): per-objective thresholds ``q`` (raw units, the indifference
+  thresholds of outranking methods, Roy's ELECTRE): each objective's normalizing range over
+  the archive is at least its ``q``. Without them a difference of 1e-6 in an objective whose
+  archive range is 1e-6 weighs as much as the whole range of another: beside a person standing
+  still, a robot chose a command 0.15 worse in navigation for a 1e-6 lower interpersonal cost,
+  every cycle, and never turned to its goal. Removing the archive members that another beats
+  by more than ``q`` (epsilon-dominance) was tried too and not kept: a two-member archive
+  is left more often, and the selection between two extremes then ignores how far apart they
+  are (a robot stopped 1.5 m from a person it could pass);
 - fitness values within a relative 1e-12 are ties (``sum(T)`` of simplex points differs from 1
   by rounding only); ties go to the lowest candidate index.
 """
@@ -79,6 +88,8 @@ class PaccetOptions:
     drop_constant_objectives: drop objectives with zero range over the archive (default on).
     rank_weakly_dominated: rank non-archive candidates below archive members (default on).
     sentinel: values ``>= sentinel`` are capped (see module docstring); ``None`` disables.
+    indifference: per-objective indifference thresholds ``(m,)`` in the objectives' raw units
+        (module docstring), or ``None`` (reference: every difference counts).
     """
 
     delta: float = 0.001
@@ -89,6 +100,7 @@ class PaccetOptions:
     drop_constant_objectives: bool = True
     rank_weakly_dominated: bool = True
     sentinel: float | None = 1e9
+    indifference: tuple[float, ...] | None = None
 
     def __post_init__(self) -> None:
         for name in ("delta", "parity_vb_tol", "parity_hp_tol"):
@@ -101,6 +113,21 @@ class PaccetOptions:
             raise ValueError(f"method must be 'closed_form' or 'parity', got {self.method!r}")
         if self.sentinel is not None and not math.isfinite(self.sentinel):
             raise ValueError(f"sentinel must be finite or None, got {self.sentinel}")
+        if self.indifference is not None and not all(
+            math.isfinite(q) and q >= 0 for q in self.indifference
+        ):
+            raise ValueError(f"indifference must be finite and >= 0, got {self.indifference}")
+
+    def thresholds(self, m: int) -> np.ndarray:
+        """``(m,)`` indifference thresholds (zeros when off); ``ValueError`` on a length other
+        than ``m``."""
+        if self.indifference is None:
+            return np.zeros(m)
+        if len(self.indifference) != m:
+            raise ValueError(
+                f"indifference has {len(self.indifference)} thresholds for {m} objectives"
+            )
+        return np.asarray(self.indifference, dtype=np.float64)
 
     @classmethod
     def reference(cls, parity_vb_tol: float = 1e-2) -> PaccetOptions:
@@ -173,6 +200,10 @@ def _bounds(
     kept = rng > 0 if options.drop_constant_objectives else np.ones(rng.size, dtype=bool)
     if not kept.any():  # single-point archive: every objective is constant, keep them all
         kept = np.ones(rng.size, dtype=bool)
+    if options.indifference is not None:  # a range below q is raised to q (module docstring)
+        q = options.thresholds(rng.size)
+        hi = np.where(kept & (rng > 0) & (rng < q), lo + q, hi)
+        rng = hi - lo
     if options.delta_mode == "absolute":
         d = np.full(rng.size, options.delta)
     else:

@@ -11,7 +11,7 @@ Hot path: never raises on well-typed input (finite-or-not float matrix, boolean 
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any, Protocol, runtime_checkable
 
 import numpy as np
@@ -101,6 +101,12 @@ class PaccetSelection:
     ):
         self.scalarization = scalarization if scalarization is not None else EqualWeight()
         self.options = options or PaccetOptions()
+
+    def with_indifference(self, q: Sequence[float]) -> PaccetSelection:
+        """This selection with per-objective indifference thresholds ``q (m,)`` (raw units,
+        ``PaccetOptions.indifference``)."""
+        options = replace(self.options, indifference=tuple(float(v) for v in q))
+        return PaccetSelection(self.scalarization, options)
 
     def select(self, F: np.ndarray, legal: np.ndarray) -> Selection:
         """The chosen row of ``F (N, m)`` among ``legal (N,)`` (see :class:`SelectionStrategy`)."""

@@ -27,16 +27,24 @@ from socialnav.planner.critics.base import Critic
 
 @dataclass(frozen=True)
 class Objective:
-    """One objective: ``F[:, j] = Σ scale · critic.cost`` over ``terms``."""
+    """One objective: ``F[:, j] = Σ scale · critic.cost`` over ``terms``.
+
+    ``indifference`` (the objective's raw units, >= 0): differences up to it carry no
+    preference for a normalizing selection (``PaccetOptions.indifference``); 0 = every
+    difference counts. Weighted sums ignore it.
+    """
 
     name: str
     terms: tuple[tuple[Critic, float], ...]
+    indifference: float = 0.0
 
     def __post_init__(self) -> None:
         if not self.name:
             raise ConfigurationError("objective name must be non-empty")
         if not self.terms:
             raise ConfigurationError(f"objective {self.name!r} has no terms")
+        if not (np.isfinite(self.indifference) and self.indifference >= 0):
+            raise ConfigurationError(f"objective {self.name!r}: indifference must be >= 0")
         for critic, scale in self.terms:
             if not isinstance(critic, Critic):
                 raise ConfigurationError(f"objective {self.name!r}: {critic!r} is not a Critic")

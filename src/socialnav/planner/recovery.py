@@ -61,6 +61,7 @@ from socialnav.core.geometry import FloatArray, wrap_angle
 from socialnav.core.robot import RobotModel
 from socialnav.core.trajectories import Trajectories
 from socialnav.planner.context import PlanningContext
+from socialnav.planner.critics.group import GroupCritic
 from socialnav.planner.critics.interpersonal import footprint_approaches
 from socialnav.planner.critics.occupancy import OccupancyCritic
 from socialnav.planner.evasion import (
@@ -165,6 +166,7 @@ class RecoveringPlanner:
         self.planner = planner
         self.params = params or RecoveryParams()
         self._occupancy = OccupancyCritic()
+        self._ospace = GroupCritic(illegal_inside=True)
         self._clock = CycleClock()
         self.reset()
 
@@ -384,9 +386,13 @@ class RecoveringPlanner:
         return footprint_approaches(trajs, ctx, d2, ctx.social.radii(), APPROACH_SPEED)
 
     def _static_ok(self, ctx: PlanningContext, trajs: Trajectories) -> np.ndarray:
-        """Legal against the local costmap (people discs included: moving away is allowed)."""
-        score = self._occupancy.score(trajs, ctx)
-        return np.isfinite(score.cost)
+        """Legal against the local costmap (people discs included: moving away is allowed) and
+        outside the groups' o-spaces (``GroupCritic.illegal_inside``, with its escape): giving
+        way once stepped into a group's o-space, where no trajectory of the planner was legal."""
+        ok = np.isfinite(self._occupancy.score(trajs, ctx).cost)
+        if ctx.social.groups:
+            ok &= ~self._ospace.score(trajs, ctx).illegal.get("ospace_intrusion", False)
+        return ok
 
     # ---- recoveries -----------------------------------------------------------------------
     def _start(self, ctx: PlanningContext, now: float) -> None:
@@ -407,7 +413,7 @@ class RecoveringPlanner:
     def _safe(self, ctx: PlanningContext, twist: FloatArray, duration: float) -> bool:
         params = RolloutParams(sim_time=max(duration, 0.1))
         trajs = rollout(ctx.pose, ctx.velocity, twist[None], self.robot, params)
-        if not bool(np.isfinite(self._occupancy.score(trajs, ctx).cost[0])):
+        if not bool(self._static_ok(ctx, trajs)[0]):
             return False
         if not ctx.social.people:
             return True

@@ -12,7 +12,9 @@ by ``margin``):
 - ``"time"``: time spent inside (s; a step counts when its start sample is inside);
 - ``"depth_time"``: ``Σ δ·Δt`` (m·s).
 0 outside every space. ``illegal_inside=True`` declares intruding trajectories illegal
-(reason ``activity_space_intrusion``). Spaces come from the viewers' current positions.
+(reason ``activity_space_intrusion``) — from inside a space (the robot starts there, or a viewer
+stepped around it), only those that get deeper than now, so the robot can always leave.
+Spaces come from the viewers' current positions.
 """
 
 from __future__ import annotations
@@ -81,6 +83,12 @@ class ActivitySpaceCritic(Critic):
                 s = signed_distance_to_polygon(xy[near], poly)
                 depth[near] = np.maximum(depth[near], self.margin - s)
         depth = np.maximum(depth, 0.0)
+        # Escape (module docstring): inside, only deeper than now (+1 mm for rounding) intrudes.
+        now = 0.0
+        if self.illegal_inside:
+            here = np.asarray(ctx.pose[:2], dtype=float)[None]
+            now = max(self.margin - float(signed_distance_to_polygon(here, p)[0]) for p in polys)
+            now = now + 1e-3 if now > 0 else 0.0
         dt = np.append(np.diff(trajs.t), 0.0)  # (T,)
         if self.measure == "max_depth":
             cost = depth.max(axis=1)
@@ -89,7 +97,7 @@ class ActivitySpaceCritic(Critic):
         else:
             cost = depth @ dt
         illegal = (
-            {"activity_space_intrusion": np.asarray((depth > 0).any(axis=1))}
+            {"activity_space_intrusion": np.asarray((depth > now).any(axis=1))}
             if self.illegal_inside
             else {}
         )

@@ -14,7 +14,10 @@ Deviations and choices (the paper does not define GD or "close"):
   interpersonal critic already covers individuals.
 - ``evaluation="last"`` (paper: end point) or ``"max_over_time"`` (every rollout point);
   several groups → maximum. ``illegal_inside=True`` declares trajectories whose centre enters any
-  o-space at any time illegal (reason ``ospace_intrusion``).
+  o-space at any time illegal (reason ``ospace_intrusion``) — except in an o-space the robot is
+  already inside (a group formed around it, or it was pushed in), where only a trajectory that
+  gets nearer its centre than now is: without that every trajectory was illegal and the robot
+  waited inside until the group left (as the interpersonal critic's escape from overlap).
 """
 
 from __future__ import annotations
@@ -98,8 +101,12 @@ class GroupCritic(Critic):
         centers, radii = group_ospaces(ctx.social, self.margin)
         if radii.size == 0:
             return CriticScore(np.zeros(n))
+        # Squared distance (G,) below which a trajectory intrudes: r² outside an o-space, the
+        # current distance less 1 mm (rollout rounding) inside one (escape: never deeper).
+        now = np.hypot(*(np.asarray(ctx.pose[:2], dtype=float) - centers).T)
+        limit = np.where(now < radii, np.maximum(now - 1e-3, 0.0) ** 2, radii**2)
         if kernels.enabled():
-            return self._score_compiled(trajs, centers, radii)
+            return self._score_compiled(trajs, centers, radii, limit)
         xy = trajs.xy if self.evaluation == "max_over_time" else trajs.xy[:, -1:]
         dx = xy[:, :, None, 0] - centers[:, 0]
         dy = xy[:, :, None, 1] - centers[:, 1]
@@ -113,11 +120,11 @@ class GroupCritic(Critic):
                 dx = trajs.xy[:, :, None, 0] - centers[:, 0]
                 dy = trajs.xy[:, :, None, 1] - centers[:, 1]
                 d2 = dx * dx + dy * dy
-            illegal["ospace_intrusion"] = np.asarray((d2 < radii**2).any(axis=(1, 2)))
+            illegal["ospace_intrusion"] = np.asarray((d2 < limit).any(axis=(1, 2)))
         return CriticScore(cost, illegal)
 
     def _score_compiled(
-        self, trajs: Trajectories, centers: FloatArray, radii: FloatArray
+        self, trajs: Trajectories, centers: FloatArray, radii: FloatArray, limit: FloatArray
     ) -> CriticScore:
         """:meth:`score` with the minimum over time from the compiled kernel (bit-identical:
         the same squared distances and exact minima; ``any(d² < r²) == (min d²) < r²``)."""
@@ -142,5 +149,5 @@ class GroupCritic(Critic):
         illegal: dict[str, np.ndarray] = {}
         if self.illegal_inside:
             assert d2_all is not None
-            illegal["ospace_intrusion"] = np.asarray((d2_all < radii**2).any(axis=1))
+            illegal["ospace_intrusion"] = np.asarray((d2_all < limit).any(axis=1))
         return CriticScore(cost, illegal)
