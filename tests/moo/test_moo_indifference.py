@@ -101,3 +101,11 @@ def test_thresholds_matter_only_where_an_archive_range_is_below_them(F, q):
     if ((ranges == 0) | (ranges >= q)).all():  # no range is floored: the same selection
         np.testing.assert_allclose(with_q.transformed, without.transformed)
         assert with_q.best_index == without.best_index
+
+
+def test_thresholds_are_stored_as_a_hashable_tuple_and_a_scalar_is_refused():
+    options = PaccetOptions(indifference=np.array([0.0, 0.01]))
+    assert options.indifference == (0.0, 0.01)
+    hash(options)
+    with pytest.raises(ValueError, match="sequence of thresholds"):
+        PaccetOptions(indifference=0.01)  # type: ignore[arg-type]

@@ -456,3 +456,23 @@ def test_bug_evasive_and_recovery_moves_keep_out_of_a_groups_o_space():
     assert planner._static_ok(ctx((1.5, 0.0, np.pi)), moves).tolist() == [False, True]
     out = straight([(0.1, 0.0), (2.5, 0.0)], start=(0.4, 0.0))  # from inside: deeper, out
     assert planner._static_ok(ctx((0.4, 0.0, 0.0)), out).tolist() == [False, True]
+
+
+def test_a_local_planner_hands_its_objectives_thresholds_to_a_paccet_selection():
+    """A planner built by hand (not from a preset) gets the objectives' thresholds too, unless
+    its selection has its own; weighted sums are left as they are."""
+    from socialnav.moo import PaccetOptions
+    from socialnav.moo.selection import PaccetSelection, WeightedSum
+    from socialnav.planner.local_planner import LocalPlanner, traditional_objectives
+    from socialnav.planner.objectives import Objective
+
+    nav = traditional_objectives()[0]
+    social = Objective("ID", ((InterpersonalCritic(), 1.0),), 0.002)
+    planner = LocalPlanner(PR2, [nav, social], PaccetSelection())
+    assert planner.selection.options.indifference == (0.0, 0.002)
+    own = PaccetSelection(options=PaccetOptions(indifference=(0.0, 0.5)))
+    assert LocalPlanner(PR2, [nav, social], own).selection is own
+    summed = WeightedSum([1.0, 1.0])
+    assert LocalPlanner(PR2, [nav, social], summed).selection is summed
+    with pytest.raises(Exception, match="finite and >= 0"):
+        Objective("ID", ((InterpersonalCritic(), 1.0),), float("inf"))

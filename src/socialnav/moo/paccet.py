@@ -30,15 +30,21 @@ behaviour is ``PaccetOptions.reference()``):
   archive (``hi + max(|hi|, 1)`` if span is 0; the sentinel itself if no regular value). They
   stay the worst value of their objective and tie among themselves, but no longer squash the
   normalization of the regular values;
-- ``indifference`` (default off): per-objective thresholds ``q`` (raw units, the indifference
-  thresholds of outranking methods, Roy's ELECTRE): each objective's normalizing range over
-  the archive is at least its ``q``. Without them a difference of 1e-6 in an objective whose
-  archive range is 1e-6 weighs as much as the whole range of another: beside a person standing
-  still, a robot chose a command 0.15 worse in navigation for a 1e-6 lower interpersonal cost,
-  every cycle, and never turned to its goal. Removing the archive members that another beats
-  by more than ``q`` (epsilon-dominance) was tried too and not kept: a two-member archive
-  is left more often, and the selection between two extremes then ignores how far apart they
-  are (a robot stopped 1.5 m from a person it could pass);
+- ``indifference`` (default off): per-objective thresholds ``q`` (raw units; the name of
+  outranking methods' indifference thresholds, Roy's ELECTRE): each objective's nonzero
+  normalizing range over the archive is raised to at least its ``q``, so a difference
+  ``delta`` moves a normalized coordinate by at most ``delta / q``. Without it a difference of
+  1e-6 in an objective whose archive range is 1e-6 spans the whole normalized range: beside a
+  person standing still, a robot chose a command 0.15 worse in navigation for a 1e-6 lower
+  interpersonal cost, every cycle. It is a floor, not a dead zone: near the utopia the
+  transformation compares coordinates by their ratios, and the utopia offset is relative
+  (``delta_mode``), so a difference of about ``0.001 * q`` can still decide between two
+  archive members (the example above needs ``q >= 0.003``). It changes the choice only under
+  a scalarization that tells archive members apart (``L1Target``, ``Weighted``):
+  ``EqualWeight`` scores every member 1. Removing the archive members that another beats by
+  more than ``q`` (epsilon-dominance) was tried and not kept: a two-member archive is left
+  more often, and an L1 target then picks the extreme best in the social objectives however
+  small its lead (a robot stopped 1.5 m from a person it could pass);
 - fitness values within a relative 1e-12 are ties (``sum(T)`` of simplex points differs from 1
   by rounding only); ties go to the lowest candidate index.
 """
@@ -89,7 +95,8 @@ class PaccetOptions:
     rank_weakly_dominated: rank non-archive candidates below archive members (default on).
     sentinel: values ``>= sentinel`` are capped (see module docstring); ``None`` disables.
     indifference: per-objective indifference thresholds ``(m,)`` in the objectives' raw units
-        (module docstring), or ``None`` (reference: every difference counts).
+        (a floor on each normalizing range; module docstring), or ``None`` (reference). A
+        list or array is stored as a tuple.
     """
 
     delta: float = 0.001
@@ -113,10 +120,16 @@ class PaccetOptions:
             raise ValueError(f"method must be 'closed_form' or 'parity', got {self.method!r}")
         if self.sentinel is not None and not math.isfinite(self.sentinel):
             raise ValueError(f"sentinel must be finite or None, got {self.sentinel}")
-        if self.indifference is not None and not all(
-            math.isfinite(q) and q >= 0 for q in self.indifference
-        ):
-            raise ValueError(f"indifference must be finite and >= 0, got {self.indifference}")
+        if self.indifference is not None:
+            try:
+                values = tuple(float(q) for q in self.indifference)
+            except TypeError as exc:
+                raise ValueError(
+                    f"indifference must be a sequence of thresholds, got {self.indifference!r}"
+                ) from exc
+            if not all(math.isfinite(q) and q >= 0 for q in values):
+                raise ValueError(f"indifference must be finite and >= 0, got {values}")
+            object.__setattr__(self, "indifference", values)  # hashable, like every field
 
     def thresholds(self, m: int) -> np.ndarray:
         """``(m,)`` indifference thresholds (zeros when off); ``ValueError`` on a length other
@@ -499,9 +512,11 @@ def paccet_select(
     """Stateless PaCcET selection over candidates ``F`` ``(n, m)`` (the planner's use).
 
     A fresh archive is built from the non-dominated rows of (sentinel-capped) ``F``; every
-    candidate is transformed and scalarized (default :class:`EqualWeight`). The best index has
-    the lowest fitness, ties to the lowest index; with ``rank_weakly_dominated`` only archive
-    members are eligible (there is always at least one).
+    candidate is transformed and scalarized (default :class:`EqualWeight`, which scores every
+    archive member 1, so the lowest-index member wins). The best index has the lowest fitness,
+    ties to the lowest index; with ``rank_weakly_dominated`` only archive members are eligible
+    (there is always at least one). Raises ``ValueError`` on an invalid ``F`` or on
+    ``options.indifference`` of another length than ``m``.
     """
     scalarization = scalarization if scalarization is not None else EqualWeight()
     options = options or PaccetOptions()

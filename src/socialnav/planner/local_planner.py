@@ -51,7 +51,7 @@ from socialnav.planner.critics.heading import HeadingCritic
 from socialnav.planner.critics.occupancy import OccupancyCritic
 from socialnav.planner.critics.path_distance import PathDistanceCritic
 from socialnav.planner.critics.plan_progress import PlanProgressCritic
-from socialnav.planner.objectives import Evaluation, Objective, evaluate
+from socialnav.planner.objectives import Evaluation, Objective, evaluate, with_indifference
 from socialnav.planner.record import EvaluationRecord
 from socialnav.planner.rollout import rollout, validate_rollout
 from socialnav.planner.sampling import sample_twists, validate_sampling
@@ -371,7 +371,7 @@ class LocalPlanner:
             raise ConfigurationError("objectives must be a non-empty sequence of Objective")
         if not callable(getattr(selection, "select", None)):
             raise ConfigurationError("selection must have a select(F, legal) method")
-        self.selection = selection
+        self.selection = with_indifference(selection, self.objectives)
         self.params = params or LocalPlannerParams()
         self._oscillation = OscillationGuard(
             self.params.oscillation_reset_dist, self.params.oscillation_reset_angle

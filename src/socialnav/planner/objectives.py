@@ -14,24 +14,30 @@ from __future__ import annotations
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field
+from typing import TypeVar, cast
 
 import numpy as np
 
 from socialnav.core.errors import ConfigurationError
 from socialnav.core.geometry import FloatArray
 from socialnav.core.trajectories import Trajectories
+from socialnav.moo.selection import PaccetSelection
 from socialnav.planner.cache import CycleCache
 from socialnav.planner.context import PlanningContext
 from socialnav.planner.critics.base import Critic
+
+S = TypeVar("S")
 
 
 @dataclass(frozen=True)
 class Objective:
     """One objective: ``F[:, j] = Σ scale · critic.cost`` over ``terms``.
 
-    ``indifference`` (the objective's raw units, >= 0): differences up to it carry no
-    preference for a normalizing selection (``PaccetOptions.indifference``); 0 = every
-    difference counts. Weighted sums ignore it.
+    ``indifference`` (the objective's raw units, finite, >= 0; 0 = off): the floor of this
+    objective's normalizing range in a PaCcET selection (``PaccetOptions.indifference``).
+    :class:`~socialnav.planner.local_planner.LocalPlanner` and the presets hand the objectives'
+    thresholds to a :class:`~socialnav.moo.selection.PaccetSelection` that has none
+    (:func:`with_indifference`); weighted sums ignore them.
     """
 
     name: str
@@ -44,7 +50,9 @@ class Objective:
         if not self.terms:
             raise ConfigurationError(f"objective {self.name!r} has no terms")
         if not (np.isfinite(self.indifference) and self.indifference >= 0):
-            raise ConfigurationError(f"objective {self.name!r}: indifference must be >= 0")
+            raise ConfigurationError(
+                f"objective {self.name!r}: indifference must be finite and >= 0"
+            )
         for critic, scale in self.terms:
             if not isinstance(critic, Critic):
                 raise ConfigurationError(f"objective {self.name!r}: {critic!r} is not a Critic")
@@ -66,6 +74,16 @@ class Evaluation:
     rejected: dict[tuple[str, str], int]
     names: tuple[str, ...]
     timing: dict[str, float] = field(default_factory=dict)
+
+
+def with_indifference(selection: S, objectives: Sequence[Objective]) -> S:
+    """``selection`` with the objectives' ``indifference`` thresholds when it is a
+    :class:`~socialnav.moo.selection.PaccetSelection` without thresholds of its own and some
+    objective has one; otherwise ``selection`` itself."""
+    q = [o.indifference for o in objectives]
+    if any(q) and isinstance(selection, PaccetSelection) and selection.options.indifference is None:
+        return cast(S, selection.with_indifference(q))
+    return selection
 
 
 def critic_keys(objectives: Sequence[Objective]) -> dict[Critic, str]:

@@ -22,7 +22,9 @@
   (``LocalPlannerParams.stop_at_goal``) inside a 0.07 m tolerance; walkers' passing distance
   in ID (``PASSING_HORIZON``); the approach rule on the footprint polygon, turning included
   (``InterpersonalCritic.approach_footprint``, ``partner_objectives``); the goal term along the
-  plan (``LocalPlannerParams.goal_distance_measure``, ``RECOMMENDED_PARAMS``). ``params``
+  plan (``LocalPlannerParams.goal_distance_measure``, ``RECOMMENDED_PARAMS``); a floor on the
+  social objectives' normalizing ranges (``SOCIAL_INDIFFERENCE``,
+  ``PaccetOptions.indifference``). ``params``
   passed to :func:`build_navigator` replace the preset's whole ``LocalPlannerParams``: start
   from ``dataclasses.replace(RECOMMENDED_PARAMS, ...)`` to change one field of ``paccet``.
   These were measured on the generated suite's development seeds
@@ -69,7 +71,7 @@ from socialnav.planner.local_planner import (
     traditional_objectives,
 )
 from socialnav.planner.navigator import CostmapLayer, MeetingLayer, Navigator, ReplanMode
-from socialnav.planner.objectives import Objective
+from socialnav.planner.objectives import Objective, with_indifference
 from socialnav.planner.recovery import RecoveringPlanner, RecoveryParams
 from socialnav.social.goals import SocialGoal
 from socialnav.world.grid import Costmap, GridGeometry
@@ -536,10 +538,7 @@ class SceneObjectives:
         key = tuple(o.name for o, _ in pairs)
         if key not in self._sets:
             objectives = tuple(o for o, _ in pairs)
-            selection = preset.selection([w for _, w in pairs])
-            q = [o.indifference for o in objectives]
-            if any(q) and isinstance(selection, PaccetSelection):
-                selection = selection.with_indifference(q)
+            selection = with_indifference(preset.selection([w for _, w in pairs]), objectives)
             self._sets[key] = (objectives, selection)
         return self._sets[key]
 
