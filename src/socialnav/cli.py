@@ -75,9 +75,12 @@ def run(
     ] = None,
     t0: Annotated[float, typer.Option(help="--crowd: start time in the recording (s).")] = 0.0,
     start: Annotated[
-        tuple[float, float] | None, typer.Option(help="--crowd: robot start X Y (m).")
+        tuple[float, float] | None,
+        typer.Option(metavar="X Y", help="--crowd: robot start X Y (m)."),
     ] = None,
-    goal: Annotated[tuple[float, float] | None, typer.Option(help="--crowd: goal X Y (m).")] = None,
+    goal: Annotated[
+        tuple[float, float] | None, typer.Option(metavar="X Y", help="--crowd: goal X Y (m).")
+    ] = None,
     switch_distance: Annotated[
         float | None, typer.Option(help="--crowd: people this close (m) switch to navground HL.")
     ] = None,

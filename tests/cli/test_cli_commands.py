@@ -69,6 +69,14 @@ def test_top_level_help_gives_each_command_a_one_line_summary() -> None:
         assert "\n" not in summary, f"{command.name or command.callback}: {summary!r}"
 
 
+def test_run_help_writes_start_and_goal_as_the_readme_does() -> None:
+    # `--start X Y`, two numbers after one flag (the README's form), not "<float,float>..."
+    lines = invoke("run", "--help").stdout.splitlines()
+    for flag in ("--start", "--goal"):
+        row = next(ln for ln in lines if f" {flag} " in ln)
+        assert row.split(flag, 1)[1].split()[0:2] == ["X", "Y"], row
+
+
 def test_installed_console_script_lists_the_same() -> None:
     script = Path(sys.executable).with_name("socialnav")
     proc = subprocess.run(
