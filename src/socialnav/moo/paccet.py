@@ -215,7 +215,7 @@ def _bounds(
         kept = np.ones(rng.size, dtype=bool)
     if options.indifference is not None:  # a range below q is raised to q (module docstring)
         q = options.thresholds(rng.size)
-        hi = np.where(kept & (rng > 0) & (rng < q), lo + q, hi)
+        hi = np.where((rng > 0) & (rng < q), lo + q, hi)
         rng = hi - lo
     if options.delta_mode == "absolute":
         d = np.full(rng.size, options.delta)

@@ -28,7 +28,7 @@ from socialnav.core.errors import ConfigurationError
 from socialnav.core.geometry import FloatArray, signed_distance_to_polygon
 from socialnav.core.scene import SocialContext
 from socialnav.core.trajectories import Trajectories
-from socialnav.planner.critics.base import CRITICS, Critic, CriticScore
+from socialnav.planner.critics.base import CRITICS, ESCAPE_TOLERANCE, Critic, CriticScore
 from socialnav.social.spaces import activity_space_polygon
 
 if TYPE_CHECKING:
@@ -83,12 +83,12 @@ class ActivitySpaceCritic(Critic):
                 s = signed_distance_to_polygon(xy[near], poly)
                 depth[near] = np.maximum(depth[near], self.margin - s)
         depth = np.maximum(depth, 0.0)
-        # Escape (module docstring): inside, only deeper than now (+1 mm for rounding) intrudes.
+        # Escape (module docstring): inside, only deeper than now (+ ESCAPE_TOLERANCE) intrudes.
         now = 0.0
         if self.illegal_inside:
             here = np.asarray(ctx.pose[:2], dtype=float)[None]
             now = max(self.margin - float(signed_distance_to_polygon(here, p)[0]) for p in polys)
-            now = now + 1e-3 if now > 0 else 0.0
+            now = now + ESCAPE_TOLERANCE if now > 0 else 0.0
         dt = np.append(np.diff(trajs.t), 0.0)  # (T,)
         if self.measure == "max_depth":
             cost = depth.max(axis=1)

@@ -25,6 +25,11 @@ if TYPE_CHECKING:
 
 TimeAggregation = Literal["last", "sum", "max", "mean", "min"]
 
+#: How much deeper (m) than the robot is now a trajectory may reach into a space it is already
+#: inside (o-space, activity space) before it counts as intruding: the escape of the
+#: ``illegal_inside`` rules, with room for the rollout's float32 rounding.
+ESCAPE_TOLERANCE = 1e-3
+
 
 class CriticUnavailable(SocialNavError):
     """Raised by ``prepare`` when a critic cannot score this cycle (e.g. goal off the costmap);

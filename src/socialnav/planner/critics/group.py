@@ -33,7 +33,7 @@ from socialnav.core.geometry import FloatArray
 from socialnav.core.scene import SocialContext
 from socialnav.core.trajectories import Trajectories
 from socialnav.planner import kernels
-from socialnav.planner.critics.base import CRITICS, Critic, CriticScore
+from socialnav.planner.critics.base import CRITICS, ESCAPE_TOLERANCE, Critic, CriticScore
 from socialnav.planner.critics.interpersonal import capped_inverse_exp
 from socialnav.social.spaces import OSPACE_MARGIN, o_space
 
@@ -102,9 +102,9 @@ class GroupCritic(Critic):
         if radii.size == 0:
             return CriticScore(np.zeros(n))
         # Squared distance (G,) below which a trajectory intrudes: r² outside an o-space, the
-        # current distance less 1 mm (rollout rounding) inside one (escape: never deeper).
+        # current distance less ESCAPE_TOLERANCE inside one (escape: never deeper).
         now = np.hypot(*(np.asarray(ctx.pose[:2], dtype=float) - centers).T)
-        limit = np.where(now < radii, np.maximum(now - 1e-3, 0.0) ** 2, radii**2)
+        limit = np.where(now < radii, np.maximum(now - ESCAPE_TOLERANCE, 0.0) ** 2, radii**2)
         if kernels.enabled():
             return self._score_compiled(trajs, centers, radii, limit)
         xy = trajs.xy if self.evaluation == "max_over_time" else trajs.xy[:, -1:]
