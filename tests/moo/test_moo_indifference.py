@@ -109,3 +109,5 @@ def test_thresholds_are_stored_as_a_hashable_tuple_and_a_scalar_is_refused():
     hash(options)
     with pytest.raises(ValueError, match="sequence of thresholds"):
         PaccetOptions(indifference=0.01)  # type: ignore[arg-type]
+    with pytest.raises(ValueError, match="sequence of thresholds"):
+        PaccetOptions(indifference="ab")  # type: ignore[arg-type]

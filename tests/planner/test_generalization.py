@@ -461,6 +461,7 @@ def test_bug_evasive_and_recovery_moves_keep_out_of_a_groups_o_space():
 def test_a_local_planner_hands_its_objectives_thresholds_to_a_paccet_selection():
     """A planner built by hand (not from a preset) gets the objectives' thresholds too, unless
     its selection has its own; weighted sums are left as they are."""
+    from socialnav.core.errors import ConfigurationError
     from socialnav.moo import PaccetOptions
     from socialnav.moo.selection import PaccetSelection, WeightedSum
     from socialnav.planner.local_planner import LocalPlanner, traditional_objectives
@@ -474,5 +475,12 @@ def test_a_local_planner_hands_its_objectives_thresholds_to_a_paccet_selection()
     assert LocalPlanner(PR2, [nav, social], own).selection is own
     summed = WeightedSum([1.0, 1.0])
     assert LocalPlanner(PR2, [nav, social], summed).selection is summed
-    with pytest.raises(Exception, match="finite and >= 0"):
+    with pytest.raises(Exception, match="finite number >= 0"):
         Objective("ID", ((InterpersonalCritic(), 1.0),), float("inf"))
+    with pytest.raises(ConfigurationError, match=r"finite number >= 0, got \[0.1\]"):
+        Objective("ID", ((InterpersonalCritic(), 1.0),), [0.1])  # type: ignore[arg-type]
+    # thresholds that are not one per objective are refused when the planner is built, not in
+    # plan() (which never raises)
+    three = PaccetSelection(options=PaccetOptions(indifference=(0.0, 0.1, 0.1)))
+    with pytest.raises(ConfigurationError, match="3 indifference thresholds for 2 objectives"):
+        LocalPlanner(PR2, [nav, social], three)

@@ -123,7 +123,7 @@ class PaccetOptions:
         if self.indifference is not None:
             try:
                 values = tuple(float(q) for q in self.indifference)
-            except TypeError as exc:
+            except (TypeError, ValueError) as exc:
                 raise ValueError(
                     f"indifference must be a sequence of thresholds, got {self.indifference!r}"
                 ) from exc

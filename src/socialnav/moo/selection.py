@@ -88,6 +88,10 @@ class WeightedSum:
 class PaccetSelection:
     """PaCcET selection over the legal rows (fresh archive per call).
 
+    ``scalarization`` defaults to :class:`~socialnav.moo.scalarize.EqualWeight`, which scores
+    every archive member 1 (the lowest-index member wins; ``options.indifference`` then never
+    changes the choice); the planner presets use an ``L1Target``.
+
     ``details``: ``transformed`` (N, m) (NaN for excluded rows), ``nondominated`` (N,) bool,
     ``kept_objectives`` (m,) bool, ``n_legal``.
     """

@@ -354,7 +354,12 @@ class _Cycle:
 
 class LocalPlanner:
     """Sample → roll out → evaluate objectives → select. ``plan`` never raises on a
-    well-typed context."""
+    well-typed context.
+
+    A :class:`~socialnav.moo.selection.PaccetSelection` without indifference thresholds takes
+    the objectives' ``Objective.indifference``
+    (:func:`~socialnav.planner.objectives.with_indifference`); one with thresholds must have one
+    per objective, else the constructor raises ``ConfigurationError``."""
 
     def __init__(
         self,

@@ -49,9 +49,10 @@ class Objective:
             raise ConfigurationError("objective name must be non-empty")
         if not self.terms:
             raise ConfigurationError(f"objective {self.name!r} has no terms")
-        if not (np.isfinite(self.indifference) and self.indifference >= 0):
+        q = self.indifference
+        if not (isinstance(q, (int, float)) and np.isfinite(q) and q >= 0):
             raise ConfigurationError(
-                f"objective {self.name!r}: indifference must be finite and >= 0"
+                f"objective {self.name!r}: indifference must be a finite number >= 0, got {q!r}"
             )
         for critic, scale in self.terms:
             if not isinstance(critic, Critic):
@@ -79,11 +80,21 @@ class Evaluation:
 def with_indifference(selection: S, objectives: Sequence[Objective]) -> S:
     """``selection`` with the objectives' ``indifference`` thresholds when it is a
     :class:`~socialnav.moo.selection.PaccetSelection` without thresholds of its own and some
-    objective has one; otherwise ``selection`` itself."""
+    objective has one; otherwise ``selection`` itself. Raises ``ConfigurationError`` when the
+    selection's own thresholds are not one per objective (checked here, when a planner is
+    built, so that ``plan`` never raises on them)."""
+    if not isinstance(selection, PaccetSelection):
+        return selection
+    own = selection.options.indifference
+    if own is not None:
+        if len(own) != len(objectives):
+            raise ConfigurationError(
+                f"the PaCcET selection has {len(own)} indifference thresholds for "
+                f"{len(objectives)} objectives ({', '.join(o.name for o in objectives)})"
+            )
+        return selection
     q = [o.indifference for o in objectives]
-    if any(q) and isinstance(selection, PaccetSelection) and selection.options.indifference is None:
-        return cast(S, selection.with_indifference(q))
-    return selection
+    return cast(S, selection.with_indifference(q)) if any(q) else selection
 
 
 def critic_keys(objectives: Sequence[Objective]) -> dict[Critic, str]:
