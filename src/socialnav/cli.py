@@ -3,10 +3,12 @@
 from __future__ import annotations
 
 import json
+import math
 from pathlib import Path
 from typing import Annotated, Any, cast
 
 import typer
+from typer.core import TyperCommand
 
 app = typer.Typer(
     add_completion=False,
@@ -54,16 +56,72 @@ def _split(value: str) -> list[str]:
     return [v.strip() for v in value.split(",") if v.strip()]
 
 
-@app.command()
+#: the options of each ``run`` mode (parameter names), refused in the other one
+CROWD_ONLY = ("t0", "start", "goal", "switch_distance")
+SCENARIO_ONLY = ("seed", "humans", "context")
+XY_OPTIONS = ("--start", "--goal")
+
+
+def _is_number(word: str) -> bool:
+    try:
+        return math.isfinite(float(word))
+    except ValueError:
+        return False
+
+
+class RunCommand(TyperCommand):
+    """``run``, checking that --start and --goal are each followed by exactly two numbers.
+
+    Click takes the next two words whatever they are, so a missing number surfaced as a
+    confusing error elsewhere (``--start -4 --goal 1 2`` read "--goal" as a number) and a third
+    number became the scenario argument.
+    """
+
+    # ctx: a Context of the Click that typer bundles (typer does not export that class)
+    def parse_args(self, ctx: Any, args: list[str]) -> list[str]:
+        for i, word in enumerate(args):
+            if word == "--":
+                break
+            if word in XY_OPTIONS:
+                count = 0
+                while i + 1 + count < len(args) and _is_number(args[i + 1 + count]):
+                    count += 1
+                if count != 2:
+                    got = " ".join(args[i + 1 : i + 1 + max(count, 2)]) or "nothing"
+                    raise typer.BadParameter(
+                        f"needs two numbers X Y (e.g. {word} -1.9 6.41); got {got}",
+                        ctx,
+                        param_hint=f"'{word}'",
+                    )
+        return super().parse_args(ctx, args)
+
+
+def _given(ctx: typer.Context, names: tuple[str, ...]) -> list[str]:
+    """The flags of the parameters ``names`` that the command line set."""
+    # compared by name: typer bundles its own Click and does not export ParameterSource
+    return [
+        param.opts[0]
+        for param in ctx.command.params
+        if param.name in names
+        and getattr(ctx.get_parameter_source(param.name), "name", None) == "COMMANDLINE"
+    ]
+
+
+def _applies(flags: list[str]) -> str:
+    return ", ".join(flags) + (" only applies" if len(flags) == 1 else " only apply")
+
+
+@app.command(cls=RunCommand)
 def run(
+    ctx: typer.Context,
     scenario: Annotated[
         str | None, typer.Argument(help="Built-in scenario name or path to a YAML file.")
     ] = None,
     planner: Annotated[str, typer.Option(help="Planner name (see `socialnav list`).")] = "paccet",
     robot: Annotated[str, typer.Option(help=ROBOT_HELP)] = "pr2",
-    seed: Annotated[int, typer.Option(help="Seed for the scenario's jitter.")] = 0,
+    seed: Annotated[int, typer.Option(help="Scenario only: seed for its jitter.")] = 0,
     humans: Annotated[
-        str, typer.Option(help="scripted (the paper) or reactive (navground HL).")
+        str, typer.Option(help="Scenario only: scripted (the paper) or reactive (navground HL).")
     ] = ("scripted"),
     out: Annotated[Path, typer.Option(help="Output folder.")] = Path("out"),
     fmt: Annotated[str, typer.Option("--format", help="Step table format: parquet or csv.")] = (
@@ -73,31 +131,46 @@ def run(
     crowd: Annotated[
         Path | None, typer.Option(help="A recorded crowd (obsmat, frame-id-x-y, ndjson).")
     ] = None,
-    t0: Annotated[float, typer.Option(help="--crowd: start time in the recording (s).")] = 0.0,
+    t0: Annotated[float, typer.Option(help="--crowd only: start time in the recording (s).")] = 0.0,
     start: Annotated[
         tuple[float, float] | None,
-        typer.Option(metavar="X Y", help="--crowd: robot start X Y (m)."),
+        typer.Option(metavar="X Y", help="--crowd only: robot start X Y (m)."),
     ] = None,
     goal: Annotated[
-        tuple[float, float] | None, typer.Option(metavar="X Y", help="--crowd: goal X Y (m).")
+        tuple[float, float] | None,
+        typer.Option(metavar="X Y", help="--crowd only: goal X Y (m)."),
     ] = None,
     switch_distance: Annotated[
-        float | None, typer.Option(help="--crowd: people this close (m) switch to navground HL.")
+        float | None,
+        typer.Option(help="--crowd only: people this close (m) switch to navground HL."),
     ] = None,
     context: Annotated[
-        str, typer.Option(help="given (the scenario's structures) or detected (noisy tracks).")
+        str,
+        typer.Option(
+            help="Scenario only: given (the scenario's structures) or detected (noisy tracks)."
+        ),
     ] = "given",
 ) -> None:
     """Run one scenario (or a recorded crowd) with one planner.
 
-    Writes the trajectories, the metrics and a figure.
+    Writes the trajectories, the metrics and the figures. With --crowd FILE,
+    the task is --t0, --start X Y and --goal X Y and the files are the same.
+    Options marked "--crowd only" or "Scenario only" fail in the other mode.
     """
     from socialnav.core.errors import ConfigurationError
     from socialnav.experiments.run import run_single
 
     if crowd is not None:
-        _run_crowd(crowd, t0, start, goal, planner, robot, out, switch_distance)
+        if scenario is not None:
+            _fail(f"give a scenario or --crowd FILE, not both (got scenario {scenario!r})")
+        misplaced = _given(ctx, SCENARIO_ONLY)
+        if misplaced:
+            _fail(f"{_applies(misplaced)} to a scenario, not with --crowd")
+        _run_crowd(crowd, t0, start, goal, planner, robot, out, switch_distance, fmt, video)
         return
+    misplaced = _given(ctx, CROWD_ONLY)
+    if misplaced:
+        _fail(f"{_applies(misplaced)} with --crowd, not with a scenario")
     if scenario is None:
         _fail("give a scenario, or --crowd FILE --t0 T --start X Y --goal X Y")
         return
@@ -111,13 +184,17 @@ def run(
             out=out,
             fmt=fmt,
             video=video,
-            progress=lambda line: typer.echo(line, err=True),
+            progress=_progress,
             context=context,
         )
     except ConfigurationError as exc:
         _fail(str(exc))
         return
     typer.echo(json.dumps(summary, indent=1))
+
+
+def _progress(line: str) -> None:
+    typer.echo(line, err=True)
 
 
 def _run_crowd(
@@ -129,6 +206,8 @@ def _run_crowd(
     robot: str,
     out: Path,
     switch_distance: float | None,
+    fmt: str,
+    video: str,
 ) -> None:
     from socialnav.core.errors import ConfigurationError
     from socialnav.experiments.crowd import run_crowd_single
@@ -138,7 +217,17 @@ def _run_crowd(
         return
     try:
         summary = run_crowd_single(
-            data, t0, start, goal, planner, robot, out=out, switch_distance=switch_distance
+            data,
+            t0,
+            start,
+            goal,
+            planner,
+            robot,
+            out=out,
+            switch_distance=switch_distance,
+            fmt=fmt,
+            video=video,
+            progress=_progress,
         )
     except ConfigurationError as exc:
         _fail(str(exc))

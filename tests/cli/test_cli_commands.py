@@ -73,7 +73,7 @@ def test_run_help_writes_start_and_goal_as_the_readme_does() -> None:
     # `--start X Y`, two numbers after one flag (the README's form), not "<float,float>..."
     lines = invoke("run", "--help").stdout.splitlines()
     for flag in ("--start", "--goal"):
-        row = next(ln for ln in lines if f" {flag} " in ln)
+        row = next(ln for ln in lines if ln.lstrip("│ ").startswith(f"{flag} "))  # its option row
         assert row.split(flag, 1)[1].split()[0:2] == ["X", "Y"], row
 
 

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 from pathlib import Path
 
 import numpy as np
@@ -105,6 +106,22 @@ def test_trajectory_has_one_row_per_agent_and_step_and_the_documented_columns(pa
     np.testing.assert_allclose(col["person_1_heading"], np.pi, atol=1e-6)  # walks -x
     assert len(col["t"]) == summary["steps"]
     np.testing.assert_allclose(col["t"], 0.1 * np.arange(summary["steps"]), atol=1e-9)
+
+
+def readme_run_description() -> str:
+    """The README's comment under ``socialnav run queue_line`` (what a run writes), as one line."""
+    text = (Path(__file__).resolve().parents[2] / "README.md").read_text()
+    block = text.split("\nsocialnav run queue_line", 1)[1].split("\nsocialnav ", 1)[0]
+    return " ".join(line.lstrip("# ") for line in block.splitlines()[1:])
+
+
+def test_readme_names_every_file_and_step_table_column_a_run_writes(paccet_run) -> None:
+    out, _ = paccet_run
+    described = readme_run_description()
+    for name in [p.name for p in out.iterdir()] + pq.read_table(
+        out / "trajectory.parquet"
+    ).column_names:
+        assert re.search(rf"(?<![\w.]){re.escape(name)}(?![\w])", described), name
 
 
 def test_robot_starts_at_the_scenario_start_and_ends_at_the_goal(paccet_run) -> None:

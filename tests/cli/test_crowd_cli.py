@@ -107,31 +107,107 @@ def test_compare_crowds_needs_data_and_names_bad_files(tmp_path: Path) -> None:
     assert "bad_obsmat.txt: line 2: column 5 (y)" in " ".join(result.output.split())
 
 
+ZARA_TASK = ("--t0", "33.2", "--start", "-1.9", "6.41", "--goal", "-4.25", "16.78")
+
+
+def run_zara(*args: str | Path):
+    return invoke("run", "--crowd", crowd_data("ucy_zara01_obsmat.txt"), *args)
+
+
 def test_run_crowd_writes_every_file(tmp_path: Path) -> None:
-    zara = crowd_data("ucy_zara01_obsmat.txt")
     out = tmp_path / "run"
-    result = invoke(
-        "run",
-        "--crowd",
-        zara,
-        "--t0",
-        "33.2",
-        "--start",
-        "-1.90",
-        "6.41",
-        "--goal",
-        "-4.25",
-        "16.78",
-        "--planner",
-        "straight_line",
-        "--out",
-        out,
-    )
+    result = run_zara(*ZARA_TASK, "--planner", "straight_line", "--out", out)
     assert result.exit_code == 0, result.output
-    summary = json.loads(result.output)
+    summary = json.loads(result.stdout)  # the progress lines are on stderr
     assert summary["people"] > 5
     metrics = json.loads((out / "metrics.json").read_text())
     assert {"collisions_active", "time_within_1.2", "success_conditions"} <= metrics.keys()
     assert (out / "trajectory.parquet").is_file() and (out / "topdown.png").is_file()
-    result = invoke("run", "--crowd", zara, "--out", out)
+    result = run_zara("--out", out)
     assert result.exit_code == 2 and "--start" in result.output
+
+
+def test_run_crowd_writes_what_a_scenario_run_writes(tmp_path: Path) -> None:
+    # a rollout planner on a 2 m task (a few seconds of recording): the same files as
+    # `socialnav run <scenario>`, diagnostics and the decision figure included
+    out = tmp_path / "run"
+    task = "--t0 33.2 --start -1.9 6.41 --goal -1.9 8.41 --planner paccet --format csv"
+    result = run_zara(*task.split(), "--out", out)
+    assert result.exit_code == 0, result.output
+    summary = json.loads(result.stdout)
+    assert {p.name for p in out.iterdir()} == {
+        "trajectory.csv",
+        "episode.json",
+        "metrics.json",
+        "topdown.png",
+        "diagnostics.parquet",
+        "decision.png",
+    }
+    diagnostics = pq.read_table(out / "diagnostics.parquet").to_pydict()
+    assert 0 < len(diagnostics["step"]) <= summary["steps"]
+    assert max(diagnostics["n_candidates"]) > 1
+    assert (out / "decision.png").read_bytes()[:4] == b"\x89PNG"
+    assert load_episode(out).num_steps == summary["steps"]
+    assert result.stderr.splitlines()[-1] == "done"  # progress on stderr, as a scenario run
+
+
+CROWD_FLAGS = ("--t0", "--start", "--goal", "--switch-distance")
+SCENARIO_FLAGS = ("--seed", "--humans", "--context")
+
+
+@pytest.mark.parametrize(
+    ("args", "option"),
+    [
+        (["--start", "-4", "--goal", "1", "2"], "--start"),
+        (["--start", "1", "--goal", "-4", "2"], "--start"),
+        (["--start", "1", "2", "--goal", "-4"], "--goal"),
+        (["--goal", "1", "2", "--start", "-4"], "--start"),
+        (["--start", "1", "2", "3", "--goal", "1", "2"], "--start"),
+        (["--start", "1", "2", "--goal", "1", "2", "-3"], "--goal"),
+        (["--start", "a", "b", "--goal", "1", "2"], "--start"),
+    ],
+)
+def test_run_crowd_start_and_goal_need_two_numbers(
+    tmp_path: Path, args: list[str], option: str
+) -> None:
+    out = tmp_path / "run"
+    result = run_zara("--out", out, *args)  # --out before: nothing for a short option to swallow
+    assert result.exit_code == 2, result.output
+    message = " ".join(result.output.replace("│", " ").split())
+    assert f"Invalid value for '{option}': needs two numbers X Y" in message, message
+    assert "Traceback" not in result.output
+    assert not out.exists()
+
+
+@pytest.mark.parametrize(
+    ("crowd", "args", "message"),
+    [
+        (False, ["--start", "1", "2"], "--start only applies with --crowd"),
+        (False, ["--goal", "-1", "2"], "--goal only applies with --crowd"),
+        (False, ["--t0", "3"], "--t0 only applies with --crowd"),
+        (False, ["--switch-distance", "1.5"], "--switch-distance only applies with --crowd"),
+        (True, ["hallway_passing"], "a scenario or --crowd FILE, not both"),
+        (True, ["--seed", "3"], "--seed only applies to a scenario"),
+        (True, ["--humans", "reactive"], "--humans only applies to a scenario"),
+        (True, ["--context", "detected"], "--context only applies to a scenario"),
+    ],
+)
+def test_each_mode_refuses_the_other_modes_options(
+    tmp_path: Path, crowd: bool, args: list[str], message: str
+) -> None:
+    out = tmp_path / "run"
+    if crowd:
+        result = run_zara(*args, *ZARA_TASK, "--out", out)
+    else:
+        result = invoke("run", "hallway_passing", *args, "--out", out)
+    assert result.exit_code == 2, result.output
+    assert message in " ".join(result.stderr.split())
+    assert not out.exists()  # refused before running
+
+
+def test_run_help_says_which_options_apply_to_which_mode() -> None:
+    lines = invoke("run", "--help").stdout.splitlines()
+    for flags, mark in ((CROWD_FLAGS, "--crowd only:"), (SCENARIO_FLAGS, "Scenario only:")):
+        for flag in flags:
+            row = next(ln for ln in lines if ln.lstrip("│ ").startswith(f"{flag} "))
+            assert mark in row.split(flag, 1)[1], row

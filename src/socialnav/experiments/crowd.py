@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import time
 import traceback
+from collections.abc import Callable
 from dataclasses import asdict, dataclass
 from functools import lru_cache
 from pathlib import Path
@@ -193,40 +194,53 @@ def run_crowd_single(
     out: Path = Path("out"),
     switch_distance: float | None = None,
     time_limit: float = 60.0,
+    fmt: str = "parquet",
+    video: str = "none",
+    progress: Callable[[str], None] | None = None,
 ) -> dict[str, Any]:
-    """``socialnav run --crowd``: one task in a recording, written to ``out`` (trajectory,
-    ``metrics.json``, ``topdown.png`` over the crowd's tracks). The robot starts facing the
-    goal. Raises :class:`ConfigurationError` for an unknown planner or robot or a bad file."""
-    import json
+    """``socialnav run --crowd``: one task in a recording, written to ``out`` with the files of
+    a scenario run (:func:`socialnav.experiments.run.write_run`); ``metrics.json`` holds the
+    crowd metrics (:data:`CROWD_METRICS`) and ``topdown.png`` draws the crowd's tracks. The robot
+    starts facing the goal. ``progress`` receives a line per stage. Raises
+    :class:`ConfigurationError` for an unknown planner, robot or format, or a bad file."""
     import math
 
     from socialnav.crowds import load_recording
-    from socialnav.experiments.run import check_robot
-    from socialnav.experiments.storage import save_episode
+    from socialnav.experiments.run import check_outputs, check_robot, write_run
     from socialnav.metrics import compute_metrics, evaluate_success
     from socialnav.sim.replay import CrowdTask, run_crowd_episode
     from socialnav.viz.crowd import plot_crowd_episodes
-    from socialnav.viz.topdown import save_figure
 
-    controller = crowd_controller(planner)
+    # the evaluation records feed diagnostics.parquet and decision.png, as in a scenario run
+    controller = crowd_controller(planner, record=True)
     check_robot(robot)
+    check_outputs(fmt, video)
     recording = load_recording(data)
+    say = progress or (lambda line: None)
+    say(f"running {recording.name} from t0 = {t0:g} s with {planner} on {robot} …")
     yaw = math.atan2(goal[1] - start[1], goal[0] - start[0])
     task = CrowdTask(float(t0), (*start, yaw), (*goal, yaw), time_limit)
-    result = run_crowd_episode(recording, task, controller, robot, switch_distance=switch_distance)
+    result = run_crowd_episode(
+        recording,
+        task,
+        controller,
+        robot,
+        record_diagnostics=True,
+        switch_distance=switch_distance,
+    )
     record = result.record
     record.meta["planner"] = planner
-    out.mkdir(parents=True, exist_ok=True)
-    save_episode(record, out)
-    metrics = {
-        k: (None if np.isnan(v) else float(v))
-        for k, v in compute_metrics(record, CROWD_METRICS).items()
-    }
     success = evaluate_success(record)
-    (out / "metrics.json").write_text(
-        json.dumps({**metrics, "success_conditions": success}, indent=1)
+    write_run(
+        result,
+        out,
+        compute_metrics(record, CROWD_METRICS),
+        success,
+        lambda: plot_crowd_episodes([record], title=record.scenario),
+        fmt=fmt,
+        video=video,
+        say=say,
     )
-    save_figure(plot_crowd_episodes([record], title=record.scenario), out / "topdown.png")
     return {
         "recording": str(data),
         "t0": t0,

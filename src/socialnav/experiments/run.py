@@ -4,11 +4,12 @@ from __future__ import annotations
 
 import difflib
 import json
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import Any, Literal
 
 import numpy as np
+from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
 from socialnav.core.episode import EpisodeRecord
@@ -18,6 +19,7 @@ from socialnav.experiments.planners import CONTROLLERS, run_planner_episode
 from socialnav.experiments.storage import save_episode
 from socialnav.experiments.suite import EpisodeSpec
 from socialnav.planner.record import EvaluationRecord
+from socialnav.sim.runner import EpisodeResult
 from socialnav.viz.animation import FanFrame
 
 
@@ -87,20 +89,14 @@ def run_single(
     ``progress`` receives one line as each stage starts and ends (the episode, the files, the
     figures, the video), so a person sees what the command is doing.
     """
-    import pyarrow as pa
-    import pyarrow.parquet as pq
-
     from socialnav.metrics import measure_episode
-    from socialnav.viz.topdown import plot_episode, save_figure
+    from socialnav.viz.topdown import plot_episode
 
     CONTROLLERS.get(planner)
     check_robot(robot)
-    if fmt not in ("parquet", "csv"):  # checked before the episode runs, not after
-        raise ConfigurationError(f"unknown trajectory format {fmt!r}; use parquet or csv")
+    check_outputs(fmt, video)  # before the episode runs, not after
     if humans not in ("scripted", "reactive"):
         raise ConfigurationError(f"unknown human model {humans!r}; use scripted or reactive")
-    if video not in ("none", "gif", "mp4"):
-        raise ConfigurationError(f"unknown video format {video!r}; use none, gif or mp4")
     if context not in ("given", "detected"):
         raise ConfigurationError(f"unknown context {context!r}; use given or detected")
     spec = EpisodeSpec(
@@ -109,6 +105,63 @@ def run_single(
     say = progress or (lambda line: None)
     say(f"running {spec.scenario} with {planner} on {robot} (seed {seed}) …")
     result = run_planner_episode(spec, record_diagnostics=True)
+    record = result.record
+    measured = measure_episode(record)
+    success = measured.passed()
+    write_run(
+        result,
+        out,
+        measured.metrics,
+        success,
+        lambda: plot_episode(record, label=planner),
+        fmt=fmt,
+        video=video,
+        say=say,
+    )
+    return {
+        "scenario": record.scenario,
+        "planner": planner,
+        "robot": robot,
+        "seed": seed,
+        "steps": record.num_steps,
+        "success": success.get("success"),
+        "wall_time_s": round(result.wall_time, 2),
+        "out": str(out),
+    }
+
+
+def check_outputs(fmt: str, video: str) -> None:
+    """Raise a :class:`ConfigurationError` for an unknown step-table or video format."""
+    if fmt not in ("parquet", "csv"):
+        raise ConfigurationError(f"unknown trajectory format {fmt!r}; use parquet or csv")
+    if video not in ("none", "gif", "mp4"):
+        raise ConfigurationError(f"unknown video format {video!r}; use none, gif or mp4")
+
+
+def write_run(
+    result: EpisodeResult,
+    out: Path,
+    metrics: Mapping[str, float],
+    success: Mapping[str, bool],
+    topdown: Callable[[], Figure | Axes],
+    *,
+    fmt: str = "parquet",
+    video: str = "none",
+    say: Callable[[str], None] = lambda line: None,
+) -> None:
+    """Write every file of ``socialnav run`` (a scenario or a recorded crowd) into ``out``.
+
+    The step table (``fmt``) and ``episode.json``; ``metrics.json`` (``metrics``, NaN as null,
+    and ``success_conditions``); ``topdown.png`` (drawn by ``topdown``); where the episode was
+    run with ``record_diagnostics`` and the planner evaluates candidates, ``diagnostics.parquet``
+    and ``decision.png``; ``episode.gif`` or ``.mp4`` unless ``video`` is ``none``. ``say``
+    receives a progress line per stage.
+    """
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    from socialnav.viz.topdown import save_figure
+
     record = result.record
     say(
         f"episode: {record.num_steps} steps, {record.times[-1]:.1f} s simulated in "
@@ -119,16 +172,14 @@ def run_single(
     columns = diagnostics_table(result.diagnostics)
     if columns["step"]:
         pq.write_table(pa.table(columns), out / "diagnostics.parquet")
-    measured = measure_episode(record)
-    metrics = {k: (None if np.isnan(v) else float(v)) for k, v in measured.metrics.items()}
-    success = measured.passed()
+    values = {k: (None if np.isnan(v) else float(v)) for k, v in metrics.items()}
     (out / "metrics.json").write_text(
-        json.dumps({**metrics, "success_conditions": success}, indent=1)
+        json.dumps({**values, "success_conditions": dict(success)}, indent=1)
     )
     say(
         "drawing topdown.png …" if not columns["step"] else "drawing topdown.png and decision.png …"
     )
-    save_figure(plot_episode(record, label=planner), out / "topdown.png")
+    save_figure(topdown(), out / "topdown.png")
     decision = decision_figure(result.diagnostics, record)
     if decision is not None:
         save_figure(decision, out / "decision.png")
@@ -140,16 +191,6 @@ def run_single(
         say(f"rendering episode.{video} ({record.num_steps} frames) …")
         animate_episode(record, frames or None, out / f"episode.{video}", fmt=kind)
     say("done")
-    return {
-        "scenario": record.scenario,
-        "planner": planner,
-        "robot": robot,
-        "seed": seed,
-        "steps": record.num_steps,
-        "success": success.get("success"),
-        "wall_time_s": round(result.wall_time, 2),
-        "out": str(out),
-    }
 
 
 def decision_figure(
