@@ -652,6 +652,13 @@ def proxemic_costs(geometry: GridGeometry, *args: Any, **kwargs: Any) -> NDArray
 # A Gaussian personal-space cost for global planning: 250 at the person, about 80 at 1.2 m
 # (σ = 0.8 m), so the global path keeps to the social zone where the map leaves room; groups'
 # o-spaces cost OSPACE_COST, so no plan threads between the members of a conversation.
+# Measured and not adopted (generated dev seeds 0–29 of hallway, crowdnav, crowdnav_visible and
+# mixed, both robots, 240 runs: 230 passes, 1 collision run): variance 0.36 228 and 4 (time
+# ratios to hl in the crowd families −0.1 to −0.3); amplitude 150 228 and 3; a cutoff of 30 or
+# 60 (no cost beyond about 1.65 or 1.4 m) 228 and 3, 228 and 2; cutoff 60 for standing people
+# only 227 and 2; cutoff 30 with velocity_factor 10 (the walker's lobe as long as now)
+# 231 and 0, and on seeds 30–59 228 against 226 with ratios −0.03 to −0.2, but recorded
+# crowds dev seeds 0–89 lost 4 successes (345 → 341) and gained 5 active-contact episodes.
 PERSONAL_SPACE_LAYER = {"amplitude": 250.0, "variance": 0.64, "cutoff": 5.0, "velocity_factor": 5.0}
 OSPACE_COST = 220
 
@@ -703,6 +710,13 @@ def personal_space_layer(
 #: median time ratios to hl 1.47/1.26 (crowdnav Pioneer/PR2), 1.46/1.30 (visible) against
 #: 1.52/1.44 and 1.57/1.45, but lost hallway Pioneer seeds 10 and 19 (seed 10 is
 #: tests/planner/test_control_loop.py's walking pair); hysteresis alone gave 149.
+#: Measured again on the current planner (generated dev seeds 0–59 of those four families, both
+#: robots, 480 runs): the pair gave 459 passes against 456 and 0 collision runs against 3,
+#: time ratios to hl 0.04–0.25 lower in crowdnav and crowdnav_visible (still 1.37–1.48), and
+#: the other five families' 600 runs the same outcomes; but recorded crowds dev seeds 0–89
+#: went from 345 successes, 8 active-contact and 108 passive-contact episodes to 338, 13 and
+#: 112 (meeting layer without hysteresis: 340, 10, 106), the path length ratio from 1.44 to
+#: 1.52 (1.48), for 0.4 s less within 1.2 m. Still off.
 MEETING_LAYER = {
     "speed_fraction": 0.8,
     "min_speed": 0.3,
