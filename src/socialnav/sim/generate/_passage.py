@@ -22,7 +22,7 @@ any more and ``V`` has stopped changing.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 
 import numpy as np
 
@@ -205,15 +205,90 @@ def _commands(robot: RobotModel) -> FloatArray:
     return np.unique(grid, axis=0)
 
 
+class _Lattice:
+    """The state lattice shared by :func:`can_avoid_collision` and
+    :func:`personal_space_path`: ``robot`` from ``scn``'s start at rest, each kept state
+    branching every :data:`ESCAPE_PERIOD` s into :func:`_commands`, velocities ramping toward
+    the command at the acceleration limits and poses integrated every :data:`ESCAPE_STEP` s;
+    a state whose footprint touches a wall or obstacle is dropped."""
+
+    def __init__(self, scn: Scenario, robot: RobotModel) -> None:
+        poly = robot.polygon
+        # (E, 2) robot frame: wall contact is checked on these
+        self.edges = np.concatenate(
+            [
+                np.linspace(a, b, 5, endpoint=False)
+                for a, b in zip(poly, np.roll(poly, -1, 0), strict=True)
+            ]
+        )
+        walls = scn.walls_array()
+        obstacle_edges = [np.stack([p, np.roll(p, -1, 0)], axis=1) for p in scn.obstacle_polygons()]
+        self.segments = np.concatenate([walls, *obstacle_edges]) if obstacle_edges else walls
+        self.wall_distance = _distance_raster(scn, self.segments)
+        self.robot = robot
+        self.commands = _commands(robot)
+        self.acc = np.array([robot.acc_lim_x, robot.acc_lim_y, robot.acc_lim_theta]) * ESCAPE_STEP
+        # state: x, y, θ, vx, vy, ω
+        self.start = np.array([[scn.start[0], scn.start[1], scn.start[2], 0.0, 0.0, 0.0]])
+
+    def period(
+        self, states: FloatArray, t: float
+    ) -> Iterator[tuple[FloatArray, FloatArray, FloatArray, np.ndarray, float]]:
+        """Branch ``states (N, 6)`` into every command and integrate one period from ``t`` (s):
+        yields ``(s, cos θ, sin θ, alive, t)`` after each step, walls checked (the arrays are
+        updated in place; the caller drops more states by clearing ``alive``)."""
+        s = np.repeat(states, len(self.commands), axis=0)
+        cmd = np.tile(self.commands, (len(states), 1))
+        alive = np.ones(len(s), dtype=bool)
+        circ = self.robot.circumscribed_radius
+        edges = self.edges
+        for _ in range(round(ESCAPE_PERIOD / ESCAPE_STEP)):
+            t += ESCAPE_STEP
+            s[:, 3:] += np.clip(cmd - s[:, 3:], -self.acc, self.acc)
+            c, sn = np.cos(s[:, 2]), np.sin(s[:, 2])
+            s[:, 0] += (c * s[:, 3] - sn * s[:, 4]) * ESCAPE_STEP
+            s[:, 1] += (sn * s[:, 3] + c * s[:, 4]) * ESCAPE_STEP
+            s[:, 2] += s[:, 5] * ESCAPE_STEP
+            c, sn = np.cos(s[:, 2]), np.sin(s[:, 2])
+            if len(self.segments):
+                near = np.flatnonzero(alive & (self.wall_distance(s[:, :2]) <= circ))
+                if near.size:
+                    cn, sm, sx = c[near, None], sn[near, None], s[near]
+                    world = np.stack(
+                        [
+                            sx[:, None, 0] + cn * edges[:, 0] - sm * edges[:, 1],
+                            sx[:, None, 1] + sm * edges[:, 0] + cn * edges[:, 1],
+                        ],
+                        axis=-1,
+                    )  # (n, E, 2)
+                    alive[near] &= self.wall_distance(world).min(axis=1) > 0.0
+            yield s, c, sn, alive, t
+
+    @staticmethod
+    def merge(s: FloatArray) -> np.ndarray:
+        """Indices of ``s (N, 6)`` with one state per lattice cell (:data:`ESCAPE_CELL`, and
+        the velocity on a 0.05 grid), the first of each."""
+        key = np.concatenate(
+            [
+                np.round(s[:, :2] / ESCAPE_CELL[0]),
+                np.round(s[:, 2:3] / ESCAPE_CELL[1]),
+                np.round(s[:, 3:] / 0.05),
+            ],
+            axis=1,
+        )
+        _, first = np.unique(key, axis=0, return_index=True)
+        return np.asarray(first)
+
+
 def can_avoid_collision(scn: Scenario, robot: RobotModel, horizon: float = 4.0) -> bool:
     """Whether some command sequence keeps ``robot``'s footprint off every person (discs on
     their scripted lines) and wall for the first ``horizon`` s from the scene's start, at rest.
 
-    A state-lattice search with the robot model's velocity and acceleration limits: every
-    :data:`ESCAPE_PERIOD` s each kept state branches into :func:`_commands`; the velocities
-    ramp toward the command at the acceleration limits, poses integrate every
-    :data:`ESCAPE_STEP` s and a state touching a person or a wall is dropped. States sharing a
-    lattice cell (:data:`ESCAPE_CELL`, and the command) are merged; beyond
+    A state-lattice search with the robot model's velocity and acceleration limits
+    (:class:`_Lattice`): every :data:`ESCAPE_PERIOD` s each kept state branches into
+    :func:`_commands`; the velocities ramp toward the command at the acceleration limits, poses
+    integrate every :data:`ESCAPE_STEP` s and a state touching a person or a wall is dropped.
+    States sharing a lattice cell (:data:`ESCAPE_CELL`, and the command) are merged; beyond
     :data:`ESCAPE_STATES` the ones farthest from people are kept. ``False`` means every
     sequence of the lattice collides: a walker who ignores the robot (the paper's people) runs
     into it whatever it does, e.g. one overtaking from right behind, faster than it can step
@@ -225,38 +300,16 @@ def can_avoid_collision(scn: Scenario, robot: RobotModel, horizon: float = 4.0) 
 
     if not scn.people:
         return True
+    lattice = _Lattice(scn, robot)
     poly = robot.polygon
-    edges = np.concatenate(
-        [
-            np.linspace(a, b, 5, endpoint=False)
-            for a, b in zip(poly, np.roll(poly, -1, 0), strict=True)
-        ]
-    )  # (E, 2) robot frame: wall contact is checked on these
-    walls = scn.walls_array()
-    obstacle_edges = [np.stack([p, np.roll(p, -1, 0)], axis=1) for p in scn.obstacle_polygons()]
-    segments = np.concatenate([walls, *obstacle_edges]) if obstacle_edges else walls
-    wall_distance = _distance_raster(scn, segments)
     radii = np.array([p.radius for p in scn.people])
     circ = robot.circumscribed_radius
-    commands = _commands(robot)
-    acc = np.array([robot.acc_lim_x, robot.acc_lim_y, robot.acc_lim_theta]) * ESCAPE_STEP
-    # state: x, y, θ, vx, vy, ω
-    states = np.array([[scn.start[0], scn.start[1], scn.start[2], 0.0, 0.0, 0.0]])
+    states = lattice.start
     t = 0.0
     while t < horizon - 1e-9:
-        s = np.repeat(states, len(commands), axis=0)
-        cmd = np.tile(commands, (len(states), 1))
-        alive = np.ones(len(s), dtype=bool)
-        margin = np.full(len(s), np.inf)
-        for _ in range(round(ESCAPE_PERIOD / ESCAPE_STEP)):
-            t += ESCAPE_STEP
-            s[:, 3:] += np.clip(cmd - s[:, 3:], -acc, acc)
-            c, sn = np.cos(s[:, 2]), np.sin(s[:, 2])
-            s[:, 0] += (c * s[:, 3] - sn * s[:, 4]) * ESCAPE_STEP
-            s[:, 1] += (sn * s[:, 3] + c * s[:, 4]) * ESCAPE_STEP
-            s[:, 2] += s[:, 5] * ESCAPE_STEP
-            c, sn = np.cos(s[:, 2]), np.sin(s[:, 2])
-            people = scripted_positions(scn.people, t)  # (K, 2)
+        margin = np.full(len(states) * len(lattice.commands), np.inf)
+        for s, c, sn, alive, now in lattice.period(states, t):
+            people = scripted_positions(scn.people, now)  # (K, 2)
             rel = people[None, :, :] - s[:, None, :2]  # (N, K, 2)
             # centre distance minus the circumscribed radius bounds the footprint's gap from
             # below: only the states that could touch someone get the exact polygon check
@@ -272,35 +325,86 @@ def can_avoid_collision(scn: Scenario, robot: RobotModel, horizon: float = 4.0) 
             closest = gap.min(axis=1)
             margin = np.minimum(margin, closest)
             alive &= closest > 0.0
-            if len(segments):
-                near = np.flatnonzero(alive & (wall_distance(s[:, :2]) <= circ))
-                if near.size:
-                    cn, sm, sx = c[near, None], sn[near, None], s[near]
-                    world = np.stack(
-                        [
-                            sx[:, None, 0] + cn * edges[:, 0] - sm * edges[:, 1],
-                            sx[:, None, 1] + sm * edges[:, 0] + cn * edges[:, 1],
-                        ],
-                        axis=-1,
-                    )  # (n, E, 2)
-                    alive[near] &= wall_distance(world).min(axis=1) > 0.0
+        t = now
         s, margin = s[alive], margin[alive]
         if len(s) == 0:
             return False
         if _parked_safely(scn, robot, s[:, :2], t):
             return True
-        key = np.concatenate(
-            [
-                np.round(s[:, :2] / ESCAPE_CELL[0]),
-                np.round(s[:, 2:3] / ESCAPE_CELL[1]),
-                np.round(s[:, 3:] / 0.05),
-            ],
-            axis=1,
-        )
-        _, first = np.unique(key, axis=0, return_index=True)
+        first = lattice.merge(s)
         s, margin = s[first], margin[first]
         if len(s) > ESCAPE_STATES:
-            keep = np.argsort(-margin)[:ESCAPE_STATES]
-            s = s[keep]
+            s = s[np.argsort(-margin)[:ESCAPE_STATES]]
         states = s
     return True
+
+
+#: :func:`personal_space_path`: states kept per period, and the coarse cell (m, rad) of which
+#: each keeps its state nearest the goal before the rest fill up by progress (the beam must
+#: keep waiting beside a wall alive next to driving on)
+PATH_STATES = 4000
+PATH_CELL = (0.4, math.pi / 4)
+
+
+def personal_space_path(
+    scn: Scenario,
+    robot: RobotModel,
+    distance: float = 1.2,
+    tolerance: float = 0.3,
+    max_states: int = PATH_STATES,
+) -> tuple[bool, float]:
+    """Whether some command sequence within ``robot``'s limits takes it from the scene's start
+    (at rest) to within ``tolerance`` m of the goal (any heading) in the time limit while the
+    robot's centre stays at least ``distance`` m from every person's centre (people on their
+    scripted lines) and its footprint off every wall; also that path's smallest distance (m;
+    ``inf`` without people, ``nan`` when no path is found).
+
+    The state lattice of :func:`can_avoid_collision` (:class:`_Lattice`), run to the goal: a
+    beam of ``max_states`` states per period, merged per lattice cell, with one state per
+    :data:`PATH_CELL` cell (the one nearest the goal) kept first and the rest by distance to
+    the goal. ``True`` is constructive: the lattice's command sequence is one this robot can
+    drive. ``False`` only means the lattice found none: unlike :func:`joint_clearance` (a
+    bound that is generous to the robot), it proves nothing. Raises ``ValueError`` when
+    ``distance`` is below a person's radius + the robot's circumscribed radius (the centre
+    distance must rule out contact).
+    """
+    lattice = _Lattice(scn, robot)
+    radii = np.array([p.radius for p in scn.people])
+    if len(radii) and distance < float(radii.max()) + robot.circumscribed_radius:
+        raise ValueError(
+            f"distance {distance} m is below a person's radius + the robot's circumscribed "
+            f"radius ({float(radii.max()) + robot.circumscribed_radius:.3f} m)"
+        )
+    goal = np.asarray(scn.goal[:2], dtype=float)
+    states = lattice.start
+    closest = np.array([np.inf])
+    t = 0.0
+    while t < scn.time_limit - 1e-9:
+        lowest = np.repeat(closest, len(lattice.commands))
+        for s, _, _, alive, now in lattice.period(states, t):
+            if scn.people:
+                people = scripted_positions(scn.people, now)
+                d = np.hypot(*(people[None] - s[:, None, :2]).transpose(2, 0, 1)).min(axis=1)
+                lowest = np.minimum(lowest, d)
+                alive &= d >= distance
+            arrived = alive & (np.hypot(*(s[:, :2] - goal).T) <= tolerance)
+            if arrived.any():
+                return True, float(lowest[arrived].max())
+        t = now
+        s, lowest = s[alive], lowest[alive]
+        if len(s) == 0:
+            return False, math.nan
+        to_goal = np.hypot(*(s[:, :2] - goal).T)
+        keep = lattice.merge(s)
+        keep = keep[np.argsort(to_goal[keep], kind="stable")]
+        if len(keep) > max_states:
+            coarse = np.concatenate(
+                [np.round(s[keep, :2] / PATH_CELL[0]), np.round(s[keep, 2:3] / PATH_CELL[1])],
+                axis=1,
+            )
+            _, first = np.unique(coarse, axis=0, return_index=True)
+            spread = keep[np.sort(first)]
+            rest = keep[~np.isin(keep, spread)]
+            keep = np.concatenate([spread, rest])[: max(max_states, len(spread))]
+        states, closest = s[keep], lowest[keep]
+    return False, math.nan
