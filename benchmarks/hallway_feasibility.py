@@ -4,8 +4,10 @@ Run: ``.venv/bin/python benchmarks/hallway_feasibility.py --results DIR [--plann
 [--jobs 2]`` on the folder of ``socialnav compare --suite generated --families hallway …``.
 
 A generated hallway marks ``no_personal_space_intrusion`` required when its *joint clearance*
-(:func:`~socialnav.sim.generate._passage.joint_clearance`) reaches 1.25 m: a bound generous to
-the robot (holonomic, no acceleration limit). For every run of ``--planner`` that failed that
+(:func:`~socialnav.sim.generate._passage.joint_clearance`) reaches 1.25 m — a bound generous to
+the robot (holonomic, no acceleration limit) — and some command sequence of the robot keeps
+1.2 m over the first 4 s (:func:`~socialnav.sim.generate._passage.can_keep_distance`). For
+every run of ``--planner`` that failed that
 condition, this script asks :func:`~socialnav.sim.generate._passage.personal_space_path`, a
 state-lattice search with the robot's own velocity and acceleration limits, for a way to
 within 0.3 m of the goal (any heading) that keeps every person's centre 1.2 m from the

@@ -10,6 +10,7 @@ from socialnav.core.robot import ROBOT_MODELS
 from socialnav.sim.generate import generate
 from socialnav.sim.generate._passage import (
     can_avoid_collision,
+    can_keep_distance,
     joint_clearance,
     personal_space_path,
 )
@@ -156,3 +157,26 @@ def test_personal_space_path_refuses_a_distance_that_allows_contact():
     scn = short_corridor([PersonSpec(id=1, position=(5.0, 0.6), behavior=Stand())])
     with pytest.raises(ValueError, match="circumscribed"):
         personal_space_path(scn, PR2, distance=0.3)
+
+
+def test_can_keep_distance_sees_what_a_differential_drive_cannot_turn_away_from():
+    # development hallway seed 53: a walker at 1.5 m/s, 2.2 m behind on a neighbouring line
+    scn = generate("hallway", 53)
+    assert not can_keep_distance(scn, PIONEER)  # it must turn before it can step aside
+    assert can_keep_distance(scn, PR2)  # the holonomic PR2 steps aside at once
+    assert can_keep_distance(scn, PIONEER, distance=0.8)
+    # nobody, or a walker far ahead: plenty of time
+    assert can_keep_distance(corridor([]), PIONEER)
+    assert can_keep_distance(corridor([walker(1, 12.0, 0.6, -1.4)]), PIONEER)
+
+
+def test_a_hallway_start_no_robot_gets_through_at_1_2_m_is_not_required():
+    # before, the generous joint clearance (1.44 m) left the condition required for the
+    # Pioneer, which no command sequence of its own could meet
+    scn = generate("hallway", 53)
+    facts = scn.feasibility["pioneer"]
+    assert facts["joint_clearance"] > 1.25 and facts["personal_space_feasible"] is False
+    override = scn.success["no_personal_space_intrusion"].per_robot["pioneer"]
+    assert override.required is False and "first 4 s" in (override.reason or "")
+    assert scn.feasibility["pr2"]["personal_space_feasible"] is True
+    assert "pr2" not in scn.success["no_personal_space_intrusion"].per_robot

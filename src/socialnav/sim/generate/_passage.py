@@ -151,16 +151,15 @@ ESCAPE_CELL = (0.05, math.pi / 16)
 PARK_MARGIN = 0.1  # m
 
 
-def _parked_safely(scn: Scenario, robot: RobotModel, xy: FloatArray, t: float) -> bool:
+def _parked_safely(scn: Scenario, need: FloatArray, xy: FloatArray, t: float) -> bool:
     """Whether some centre in ``xy (N, 2)`` keeps clear of every person's remaining path
-    (from their position at ``t`` to their end point) by radius + circumscribed radius +
-    :data:`PARK_MARGIN`."""
+    (from their position at ``t`` to their end point) by ``need (K,)`` m + :data:`PARK_MARGIN`."""
     from socialnav.core.geometry import point_segment_distance
 
     if not math.isfinite(_still_after(scn.people)):
         return False  # an endless walk: no end point to measure the path to
     now, end = scripted_positions(scn.people, t), scripted_positions(scn.people, math.inf)
-    need = np.array([p.radius for p in scn.people]) + robot.circumscribed_radius + PARK_MARGIN
+    need = need + PARK_MARGIN
     d = point_segment_distance(xy, now, end)  # (N, K)
     return bool(np.any(np.all(d > need[None, :], axis=1)))
 
@@ -298,38 +297,78 @@ def can_avoid_collision(scn: Scenario, robot: RobotModel, horizon: float = 4.0) 
     """
     from socialnav.core.geometry import signed_distance_to_polygon
 
-    if not scn.people:
-        return True
-    lattice = _Lattice(scn, robot)
     poly = robot.polygon
     radii = np.array([p.radius for p in scn.people])
     circ = robot.circumscribed_radius
+
+    def gap(s: FloatArray, c: FloatArray, sn: FloatArray, people: FloatArray) -> FloatArray:
+        rel = people[None, :, :] - s[:, None, :2]  # (N, K, 2)
+        # centre distance minus the circumscribed radius bounds the footprint's gap from
+        # below: only the states that could touch someone get the exact polygon check
+        out = np.hypot(rel[..., 0], rel[..., 1]) - circ - radii[None, :]
+        close = np.flatnonzero((out <= 0.0).any(axis=1))
+        if close.size:
+            cc, ss, rr = c[close, None], sn[close, None], rel[close]
+            local = np.stack(
+                [cc * rr[..., 0] + ss * rr[..., 1], -ss * rr[..., 0] + cc * rr[..., 1]],
+                axis=-1,
+            )  # world → robot frame
+            out[close] = signed_distance_to_polygon(local, poly) - radii[None, :]
+        return np.asarray(out.min(axis=1))
+
+    return _survives(scn, robot, horizon, gap, radii + circ)
+
+
+def can_keep_distance(
+    scn: Scenario, robot: RobotModel, distance: float = 1.2, horizon: float = 4.0
+) -> bool:
+    """Whether some command sequence keeps ``robot``'s centre at least ``distance`` m from
+    every person's centre (on their scripted lines), and its footprint off every wall, for the
+    first ``horizon`` s from the scene's start, at rest.
+
+    :func:`can_avoid_collision`'s lattice and rule with the personal distance in place of
+    contact: ``False`` means every sequence of the lattice comes closer, e.g. a fast walker
+    closing from just behind, before a differential drive can turn and step aside; ``True``
+    as soon as a state keeps ``distance`` + :data:`PARK_MARGIN` from what is left of every
+    person's path. The joint clearance (:func:`joint_clearance`) cannot see this: it lets the
+    robot move in any direction at once.
+    """
+
+    def gap(s: FloatArray, c: FloatArray, sn: FloatArray, people: FloatArray) -> FloatArray:
+        d = np.hypot(*(people[None] - s[:, None, :2]).transpose(2, 0, 1))  # (N, K)
+        return np.asarray(d.min(axis=1) - distance)
+
+    return _survives(scn, robot, horizon, gap, np.full(len(scn.people), distance))
+
+
+def _survives(
+    scn: Scenario,
+    robot: RobotModel,
+    horizon: float,
+    gap: Callable[[FloatArray, FloatArray, FloatArray, FloatArray], FloatArray],
+    need: FloatArray,
+) -> bool:
+    """The search of :func:`can_avoid_collision` and :func:`can_keep_distance`: whether some
+    lattice state keeps ``gap(s, cos θ, sin θ, people (K, 2)) -> (N,)`` above 0 at every step
+    until ``horizon`` s, or reaches a place ``need (K,)`` m + :data:`PARK_MARGIN` clear of
+    every person's remaining path. States sharing a lattice cell are merged; beyond
+    :data:`ESCAPE_STATES` the ones with the largest smallest gap are kept."""
+    if not scn.people:
+        return True
+    lattice = _Lattice(scn, robot)
     states = lattice.start
     t = 0.0
     while t < horizon - 1e-9:
         margin = np.full(len(states) * len(lattice.commands), np.inf)
         for s, c, sn, alive, now in lattice.period(states, t):
-            people = scripted_positions(scn.people, now)  # (K, 2)
-            rel = people[None, :, :] - s[:, None, :2]  # (N, K, 2)
-            # centre distance minus the circumscribed radius bounds the footprint's gap from
-            # below: only the states that could touch someone get the exact polygon check
-            gap = np.hypot(rel[..., 0], rel[..., 1]) - circ - radii[None, :]
-            close = np.flatnonzero((gap <= 0.0).any(axis=1))
-            if close.size:
-                cc, ss, rr = c[close, None], sn[close, None], rel[close]
-                local = np.stack(
-                    [cc * rr[..., 0] + ss * rr[..., 1], -ss * rr[..., 0] + cc * rr[..., 1]],
-                    axis=-1,
-                )  # world → robot frame
-                gap[close] = signed_distance_to_polygon(local, poly) - radii[None, :]
-            closest = gap.min(axis=1)
+            closest = gap(s, c, sn, scripted_positions(scn.people, now))
             margin = np.minimum(margin, closest)
             alive &= closest > 0.0
         t = now
         s, margin = s[alive], margin[alive]
         if len(s) == 0:
             return False
-        if _parked_safely(scn, robot, s[:, :2], t):
+        if _parked_safely(scn, need, s[:, :2], t):
             return True
         first = lattice.merge(s)
         s, margin = s[first], margin[first]
