@@ -123,11 +123,24 @@ def run(
     humans: Annotated[
         str, typer.Option(help="Scenario only: scripted (the paper) or reactive (navground HL).")
     ] = ("scripted"),
-    out: Annotated[Path, typer.Option(help="Output folder.")] = Path("out"),
+    out: Annotated[
+        Path,
+        typer.Option(
+            help="Output folder; an earlier run's files there (trajectory.*, episode.*, "
+            "metrics.json, topdown.png, diagnostics.parquet, decision.png) are replaced, "
+            "other files are kept."
+        ),
+    ] = Path("out"),
     fmt: Annotated[str, typer.Option("--format", help="Step table format: parquet or csv.")] = (
         "parquet"
     ),
-    video: Annotated[str, typer.Option(help="none, gif or mp4 (candidate fan by score).")] = "none",
+    video: Annotated[
+        str,
+        typer.Option(
+            help="none, gif or mp4 (candidate fan by score); mp4 needs the optional video "
+            "extra (imageio-ffmpeg)."
+        ),
+    ] = "none",
     crowd: Annotated[
         Path | None, typer.Option(help="A recorded crowd (obsmat, frame-id-x-y, ndjson).")
     ] = None,

@@ -149,6 +149,7 @@ def test_run_crowd_writes_what_a_scenario_run_writes(tmp_path: Path) -> None:
     assert (out / "decision.png").read_bytes()[:4] == b"\x89PNG"
     assert load_episode(out).num_steps == summary["steps"]
     assert result.stderr.splitlines()[-1] == "done"  # progress on stderr, as a scenario run
+    assert "drawing topdown.png and decision.png …" in result.stderr.splitlines()
 
 
 CROWD_FLAGS = ("--t0", "--start", "--goal", "--switch-distance")

@@ -44,6 +44,13 @@ class RecordingFormatError(ConfigurationError):
     """A recording file that cannot be read; the message names the file and the line."""
 
 
+def _require_file(path: Path) -> None:
+    if path.is_dir():
+        raise RecordingFormatError(f"{path}: is a directory, not a recording file")
+    if not path.is_file():
+        raise RecordingFormatError(f"{path}: no such file")
+
+
 def _period(frame_period: float | None, default: float, path: Path) -> float:
     period = default if frame_period is None else float(frame_period)
     if not (math.isfinite(period) and period > 0):
@@ -53,8 +60,7 @@ def _period(frame_period: float | None, default: float, path: Path) -> float:
 
 def _read_table(path: Path, columns: Sequence[str], sep: str) -> pd.DataFrame:
     """Numeric columns of a text table; ``line`` (1-based) kept for error messages."""
-    if not path.is_file():
-        raise RecordingFormatError(f"{path}: no such file")
+    _require_file(path)
     try:
         raw = pd.read_csv(
             path,
@@ -148,8 +154,7 @@ def load_groups(path: str | Path) -> tuple[tuple[int, ...], ...]:
     """Groups of ids that walk together from an OpenTraj ``groups.txt`` (one group per line,
     ids separated by whitespace; blank lines skipped)."""
     p = Path(path)
-    if not p.is_file():
-        raise RecordingFormatError(f"{p}: no such file")
+    _require_file(p)
     groups = []
     for number, line in enumerate(p.read_text().splitlines(), start=1):
         fields = line.split()
@@ -219,8 +224,7 @@ def load_trajnet(
     (2.5 when absent). Raises :class:`RecordingFormatError`.
     """
     p = Path(path)
-    if not p.is_file():
-        raise RecordingFormatError(f"{p}: no such file")
+    _require_file(p)
     rows: list[tuple[int, int, float, float, int]] = []
     fps: list[float] = []
     for number, line in enumerate(p.read_text().splitlines(), start=1):
@@ -299,8 +303,7 @@ def detect_format(path: str | Path) -> str:
     p = Path(path)
     if p.suffix.lower() in (".ndjson", ".json", ".jsonl"):
         return "trajnet"
-    if not p.is_file():
-        raise RecordingFormatError(f"{p}: no such file")
+    _require_file(p)
     with p.open() as handle:
         for number, line in enumerate(handle, start=1):
             fields = [f for f in line.replace(",", " ").split() if f]

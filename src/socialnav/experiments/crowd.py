@@ -8,6 +8,7 @@ SocNavBench / Francis et al. (``socialnav.metrics.crowd``).
 
 from __future__ import annotations
 
+import math
 import time
 import traceback
 from collections.abc import Callable
@@ -112,7 +113,6 @@ def crowd_controller(planner: str, record: bool = False) -> Any:
 def run_crowd_planner(spec: CrowdSpec, record_diagnostics: bool = False) -> Any:
     """Run one crowd episode with its planner; the episode generator's task is in the meta."""
     from socialnav.crowds.episodes import generate_episode
-    from socialnav.sim.controller import CONTROLLERS
     from socialnav.sim.replay import CrowdTask, run_crowd_episode
 
     recording = cached_recording(spec.data)
@@ -130,12 +130,63 @@ def run_crowd_planner(spec: CrowdSpec, record_diagnostics: bool = False) -> Any:
     )
     meta = result.record.meta
     meta.update({"planner": spec.planner, "flow": episode.flow, "people_near": episode.people_near})
-    if CONTROLLERS.get(spec.planner).kind == "stack" and result.step_seconds:
-        ms = np.asarray(result.step_seconds) * 1e3
-        meta["planner_ms_median"] = float(np.median(ms))
-        meta["planner_ms_p95"] = float(np.percentile(ms, 95))
-        meta["planner_ms_steps"] = [round(float(v), 3) for v in ms]
+    meta.update(planner_timing(spec.planner, result.step_seconds))
     return result
+
+
+def planner_timing(planner: str, step_seconds: list[float]) -> dict[str, Any]:
+    """The planner's step time (ms): ``planner_ms_median``, ``planner_ms_p95`` and every step's
+    ``planner_ms_steps``; empty for a controller that is not a planner stack (its step time
+    would be navground's, not a planner's) or an episode without steps."""
+    from socialnav.sim.controller import CONTROLLERS
+
+    if CONTROLLERS.get(planner).kind != "stack" or not step_seconds:
+        return {}
+    ms = np.asarray(step_seconds) * 1e3
+    return {
+        "planner_ms_median": float(np.median(ms)),
+        "planner_ms_p95": float(np.percentile(ms, 95)),
+        "planner_ms_steps": [round(float(v), 3) for v in ms],
+    }
+
+
+def check_crowd_task(
+    recording: Any,
+    t0: float,
+    start: tuple[float, float],
+    goal: tuple[float, float],
+    switch_distance: float | None = None,
+) -> None:
+    """Raise a :class:`ConfigurationError` naming the file for a task the recording cannot
+    hold: an area of zero width or height (every position on one line), ``t0`` (s) outside
+    the recording's time span (0 to its last sample), ``start``/``goal`` (m) outside its
+    annotated area (:attr:`Recording.area`, the border of the crowd's open space), or a
+    negative ``switch_distance`` (m)."""
+    where = str(recording.source) if recording.source is not None else recording.name
+    area = recording.area
+    width, height = area.size
+    if not (width > 0 and height > 0):
+        flat = "width (every x" if not width > 0 else "height (every y"
+        value = area.xmin if not width > 0 else area.ymin
+        raise ConfigurationError(
+            f"{where}: the recorded area has zero {flat} is {value:g}); a robot task needs "
+            "people recorded over an area"
+        )
+    if not (math.isfinite(t0) and 0.0 <= t0 <= recording.end_time):
+        raise ConfigurationError(
+            f"--t0 {t0:g}: outside the recording's time span 0 to {recording.end_time:g} s "
+            f"({where})"
+        )
+    for flag, xy in (("--start", start), ("--goal", goal)):
+        if not bool(area.contains(np.asarray(xy, dtype=float))):
+            raise ConfigurationError(
+                f"{flag} {xy[0]:g} {xy[1]:g}: outside the annotated area of {where}: "
+                f"x {area.xmin:.2f} to {area.xmax:.2f} m, y {area.ymin:.2f} to {area.ymax:.2f} m"
+            )
+    if switch_distance is not None and not switch_distance >= 0:
+        raise ConfigurationError(
+            f"--switch-distance must be a distance >= 0 m, got {switch_distance:g}"
+        )
 
 
 def run_crowd_spec(
@@ -201,10 +252,12 @@ def run_crowd_single(
     """``socialnav run --crowd``: one task in a recording, written to ``out`` with the files of
     a scenario run (:func:`socialnav.experiments.run.write_run`); ``metrics.json`` holds the
     crowd metrics (:data:`CROWD_METRICS`) and ``topdown.png`` draws the crowd's tracks. The robot
-    starts facing the goal. ``progress`` receives a line per stage. Raises
-    :class:`ConfigurationError` for an unknown planner, robot or format, or a bad file."""
-    import math
-
+    starts facing the goal; ``t0`` and ``time_limit`` are seconds, ``start``/``goal`` and
+    ``switch_distance`` metres. A crowd run has no seed (``episode.json`` stores none).
+    ``progress`` receives a line per stage. Raises :class:`ConfigurationError` for an unknown
+    planner, robot or format, an ``out`` that is a file, ``mp4`` without the ``video`` extra,
+    a bad file or a task the recording cannot hold (:func:`check_crowd_task`), all before the
+    episode runs."""
     from socialnav.crowds import load_recording
     from socialnav.experiments.run import check_outputs, check_robot, write_run
     from socialnav.metrics import compute_metrics, evaluate_success
@@ -214,8 +267,9 @@ def run_crowd_single(
     # the evaluation records feed diagnostics.parquet and decision.png, as in a scenario run
     controller = crowd_controller(planner, record=True)
     check_robot(robot)
-    check_outputs(fmt, video)
+    check_outputs(fmt, video, out)
     recording = load_recording(data)
+    check_crowd_task(recording, t0, start, goal, switch_distance)
     say = progress or (lambda line: None)
     say(f"running {recording.name} from t0 = {t0:g} s with {planner} on {robot} …")
     yaw = math.atan2(goal[1] - start[1], goal[0] - start[0])
@@ -230,11 +284,16 @@ def run_crowd_single(
     )
     record = result.record
     record.meta["planner"] = planner
+    record.meta.pop("seed", None)  # the task is given, not drawn: no seed to report
+    timing = planner_timing(planner, result.step_seconds)
     success = evaluate_success(record)
+    metrics = compute_metrics(record, CROWD_METRICS)
+    for key in ("planner_ms_median", "planner_ms_p95"):  # the suite's columns, NaN off-stack
+        metrics[key] = float(timing.get(key, np.nan))
     write_run(
         result,
         out,
-        compute_metrics(record, CROWD_METRICS),
+        metrics,
         success,
         lambda: plot_crowd_episodes([record], title=record.scenario),
         fmt=fmt,

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import difflib
+import importlib.util
 import json
 from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
@@ -16,7 +17,7 @@ from socialnav.core.episode import EpisodeRecord
 from socialnav.core.errors import ConfigurationError
 from socialnav.core.robot import ROBOT_MODELS
 from socialnav.experiments.planners import CONTROLLERS, run_planner_episode
-from socialnav.experiments.storage import save_episode
+from socialnav.experiments.storage import EPISODE_FILE, TRAJECTORY_FILE, save_episode
 from socialnav.experiments.suite import EpisodeSpec
 from socialnav.planner.record import EvaluationRecord
 from socialnav.sim.runner import EpisodeResult
@@ -94,7 +95,7 @@ def run_single(
 
     CONTROLLERS.get(planner)
     check_robot(robot)
-    check_outputs(fmt, video)  # before the episode runs, not after
+    check_outputs(fmt, video, out)  # before the episode runs, not after
     if humans not in ("scripted", "reactive"):
         raise ConfigurationError(f"unknown human model {humans!r}; use scripted or reactive")
     if context not in ("given", "detected"):
@@ -130,12 +131,39 @@ def run_single(
     }
 
 
-def check_outputs(fmt: str, video: str) -> None:
-    """Raise a :class:`ConfigurationError` for an unknown step-table or video format."""
+#: every file :func:`write_run` may write; a new run into the folder removes these, no others
+RUN_FILES = (
+    TRAJECTORY_FILE,
+    "trajectory.csv",
+    EPISODE_FILE,
+    "metrics.json",
+    "topdown.png",
+    "diagnostics.parquet",
+    "decision.png",
+    "episode.gif",
+    "episode.mp4",
+)
+
+
+def check_outputs(fmt: str, video: str, out: Path | None = None) -> None:
+    """Raise a :class:`ConfigurationError` for an unknown step-table or video format, for
+    ``mp4`` without the optional ``video`` extra (imageio-ffmpeg), or for an output folder
+    ``out`` that is (or lies inside) an existing file: checked before an episode runs, so a
+    bad option does not cost the episode."""
     if fmt not in ("parquet", "csv"):
         raise ConfigurationError(f"unknown trajectory format {fmt!r}; use parquet or csv")
     if video not in ("none", "gif", "mp4"):
         raise ConfigurationError(f"unknown video format {video!r}; use none, gif or mp4")
+    if video == "mp4" and importlib.util.find_spec("imageio_ffmpeg") is None:
+        raise ConfigurationError(
+            "--video mp4 needs imageio-ffmpeg: pip install 'socialnav[video]', or use --video gif"
+        )
+    if out is not None:
+        # the nearest existing ancestor decides whether the folder can be made
+        existing = next((p for p in (out, *out.parents) if p.exists()), None)
+        if existing is not None and not existing.is_dir():
+            why = "is a file" if existing == out else f"lies inside {existing}, a file"
+            raise ConfigurationError(f"--out {out}: {why}, not a folder")
 
 
 def write_run(
@@ -154,8 +182,10 @@ def write_run(
     The step table (``fmt``) and ``episode.json``; ``metrics.json`` (``metrics``, NaN as null,
     and ``success_conditions``); ``topdown.png`` (drawn by ``topdown``); where the episode was
     run with ``record_diagnostics`` and the planner evaluates candidates, ``diagnostics.parquet``
-    and ``decision.png``; ``episode.gif`` or ``.mp4`` unless ``video`` is ``none``. ``say``
-    receives a progress line per stage.
+    and, where a cycle weighed two or more objectives, ``decision.png``; ``episode.gif`` or
+    ``.mp4`` unless ``video`` is ``none``. The files of :data:`RUN_FILES` already in ``out`` (an
+    earlier run's) are removed first; other files are kept. ``say`` receives a progress line per
+    stage.
     """
     import pyarrow as pa
     import pyarrow.parquet as pq
@@ -168,6 +198,11 @@ def write_run(
         f"{result.wall_time:.1f} s; writing {out}/ …"
     )
     out.mkdir(parents=True, exist_ok=True)
+    stale = [out / name for name in RUN_FILES if (out / name).is_file()]
+    for path in stale:  # an earlier run's files would mix with this run's
+        path.unlink()
+    if stale:
+        say(f"removed {len(stale)} files of an earlier run from {out}/")
     save_episode(record, out, fmt=fmt)
     columns = diagnostics_table(result.diagnostics)
     if columns["step"]:
@@ -176,13 +211,11 @@ def write_run(
     (out / "metrics.json").write_text(
         json.dumps({**values, "success_conditions": dict(success)}, indent=1)
     )
-    say(
-        "drawing topdown.png …" if not columns["step"] else "drawing topdown.png and decision.png …"
-    )
+    cycle = decision_cycle(result.diagnostics, record)
+    say("drawing topdown.png …" if cycle is None else "drawing topdown.png and decision.png …")
     save_figure(topdown(), out / "topdown.png")
-    decision = decision_figure(result.diagnostics, record)
-    if decision is not None:
-        save_figure(decision, out / "decision.png")
+    if cycle is not None:
+        save_figure(_plot_cycle(result.diagnostics, record, cycle), out / "decision.png")
     if video != "none":
         from socialnav.viz.animation import animate_episode
 
@@ -193,12 +226,12 @@ def write_run(
     say("done")
 
 
-def decision_figure(
+def decision_cycle(
     diagnostics: Sequence[EvaluationRecord | None], record: EpisodeRecord
-) -> Figure | None:
-    """Why a trajectory won, at the multi-objective cycle closest to a person (None if none)."""
-    from socialnav.viz.pareto import plot_decision
-
+) -> tuple[int, float] | None:
+    """The step of the multi-objective cycle (a choice among two or more objective columns)
+    closest to a person, and that distance (m, ``inf`` with nobody present); ``None`` where no
+    cycle weighed two objectives (``traditional``, ``proxemic_layer``, nobody in view)."""
     best, best_distance = None, np.inf
     for step, rec in enumerate(diagnostics):
         if rec is None or rec.chosen is None or rec.F.ndim != 2 or rec.F.shape[1] < 2:
@@ -207,10 +240,28 @@ def decision_figure(
         near = np.hypot(gaps[:, 0], gaps[:, 1])  # NaN for people absent at this step
         distance = float(np.nanmin(near)) if np.isfinite(near).any() else np.inf
         if best is None or distance < best_distance:
-            best, best_distance = (step, rec), distance
-    if best is None:
-        return None
-    step, rec = best
+            best, best_distance = step, distance
+    return None if best is None else (best, best_distance)
+
+
+def decision_figure(
+    diagnostics: Sequence[EvaluationRecord | None], record: EpisodeRecord
+) -> Figure | None:
+    """Why a trajectory won, at the multi-objective cycle closest to a person (None if none)."""
+    cycle = decision_cycle(diagnostics, record)
+    return None if cycle is None else _plot_cycle(diagnostics, record, cycle)
+
+
+def _plot_cycle(
+    diagnostics: Sequence[EvaluationRecord | None],
+    record: EpisodeRecord,
+    cycle: tuple[int, float],
+) -> Figure:
+    from socialnav.viz.pareto import plot_decision
+
+    step, best_distance = cycle
+    rec = diagnostics[step]
+    assert rec is not None and rec.chosen is not None  # decision_cycle picks such cycles
     details = rec.selection or {}
     where = f"{best_distance:.2f} m from a person" if np.isfinite(best_distance) else "nobody near"
     return plot_decision(

@@ -57,10 +57,8 @@ def plot_crowd_episodes(
         ax.set_ylim(lo[1], hi[1])
         ax.set_aspect("equal")
         ax.tick_params(labelsize=7)
-        ax.set_title(
-            f"{rec.meta.get('planner')} · {rec.meta.get('robot')} · seed {rec.meta.get('seed')}",
-            fontsize=8,
-        )
+        seed = "" if rec.meta.get("seed") is None else f" · seed {rec.meta['seed']}"
+        ax.set_title(f"{rec.meta.get('planner')} · {rec.meta.get('robot')}{seed}", fontsize=8)
         ax.legend(fontsize=7, loc="upper right")
     if title:
         fig.suptitle(title, fontsize=10)
