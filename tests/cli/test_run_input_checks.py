@@ -57,6 +57,8 @@ def one_line(result) -> str:
     [
         (["--start", "50", "50"], ["--start 50 50", "x 0.00 to 6.00 m", "y 0.00 to 4.00 m"]),
         (["--goal", "-1", "2"], ["--goal -1 2", "x 0.00 to 6.00 m", "y 0.00 to 4.00 m"]),
+        # inside the area, but the PR2's footprint would start across its border
+        (["--start", "0.2", "2"], ["--start 0.2 2", "(the robot's radius) inside", "x 0.00"]),
         (["--t0", "-1"], ["--t0 -1", "time span 0 to 4 s"]),
         (["--t0", "4.5"], ["--t0 4.5", "time span 0 to 4 s"]),
         (["--switch-distance", "-0.5"], ["--switch-distance", "-0.5"]),

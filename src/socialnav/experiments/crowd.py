@@ -156,12 +156,14 @@ def check_crowd_task(
     start: tuple[float, float],
     goal: tuple[float, float],
     switch_distance: float | None = None,
+    margin: float = 0.0,
 ) -> None:
     """Raise a :class:`ConfigurationError` naming the file for a task the recording cannot
     hold: an area of zero width or height (every position on one line), ``t0`` (s) outside
     the recording's time span (0 to its last sample), ``start``/``goal`` (m) outside its
-    annotated area (:attr:`Recording.area`, the border of the crowd's open space), or a
-    negative ``switch_distance`` (m)."""
+    annotated area (:attr:`Recording.area`, the border of the crowd's open space) shrunk by
+    ``margin`` (m: the robot's circumscribed radius, so its footprint starts and ends clear of
+    the border at any heading), or a negative ``switch_distance`` (m)."""
     where = str(recording.source) if recording.source is not None else recording.name
     area = recording.area
     width, height = area.size
@@ -178,9 +180,14 @@ def check_crowd_task(
             f"({where})"
         )
     for flag, xy in (("--start", start), ("--goal", goal)):
-        if not bool(area.contains(np.asarray(xy, dtype=float))):
+        if not bool(area.contains(np.asarray(xy, dtype=float), margin)):
+            inside = (
+                "outside"
+                if not bool(area.contains(np.asarray(xy, dtype=float)))
+                else f"not {margin:.2f} m (the robot's radius) inside"
+            )
             raise ConfigurationError(
-                f"{flag} {xy[0]:g} {xy[1]:g}: outside the annotated area of {where}: "
+                f"{flag} {xy[0]:g} {xy[1]:g}: {inside} the annotated area of {where}: "
                 f"x {area.xmin:.2f} to {area.xmax:.2f} m, y {area.ymin:.2f} to {area.ymax:.2f} m"
             )
     if switch_distance is not None and not switch_distance >= 0:
@@ -269,7 +276,10 @@ def run_crowd_single(
     check_robot(robot)
     check_outputs(fmt, video, out)
     recording = load_recording(data)
-    check_crowd_task(recording, t0, start, goal, switch_distance)
+    from socialnav.core.robot import ROBOT_MODELS
+
+    radius = ROBOT_MODELS[robot].circumscribed_radius
+    check_crowd_task(recording, t0, start, goal, switch_distance, margin=radius)
     say = progress or (lambda line: None)
     say(f"running {recording.name} from t0 = {t0:g} s with {planner} on {robot} …")
     yaw = math.atan2(goal[1] - start[1], goal[0] - start[0])

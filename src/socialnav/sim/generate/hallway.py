@@ -8,15 +8,19 @@ end toward the robot or from behind it (the robot's end) in its direction, on ei
 
 Feasibility facts per robot model (the robot drives along the corridor, so its footprint's
 half width ``w`` limits it to ``|y| <= W/2 − w − 0.05``):
+- ``corridor_width``: ``W`` (m);
 - ``max_clearance_<id>``: the largest centre-to-centre distance from person ``id`` the corridor
   allows while passing (for a side-by-side pair, on the side that is best for both);
 - ``passage``: a gap of at least the robot's width + 0.1 m exists beside every unit;
 - ``joint_clearance``: the largest distance from *every* person at once that a path to the goal
-  can keep, walkers' timing included (:func:`~socialnav.sim.generate._passage.joint_clearance`):
-  two walkers passing the robot together on both sides leave less than either one alone;
+  can keep, walkers' timing included (:func:`~socialnav.sim.generate._passage.joint_clearance`,
+  capped at 3 m; generous to the robot, so it may exceed a per-person bound by up to half a
+  grid cell): two walkers passing the robot together on both sides leave less than either
+  one alone;
 - ``collision_free``: some command sequence within the robot's velocity and acceleration
   limits avoids every walker (:func:`~socialnav.sim.generate._passage.can_avoid_collision`:
   a walker overtaking from right behind, faster than the robot can step aside, hits it).
+- ``personal_space_feasible``: whether ``no_personal_space_intrusion`` is required (below).
 No passage or no collision-free way for some robot → the scene is drawn again. A joint
 clearance below the 1.2 m personal space (+0.05 m) marks ``no_personal_space_intrusion`` not
 required for that robot, with the reason (the per-person bound assumes the robot passes each
@@ -25,7 +29,8 @@ sequence of the robot gets through at 1.2 m
 (:func:`~socialnav.sim.generate._passage.can_keep_distance`, the first 4 s, the lattice of
 ``collision_free``): the joint clearance lets the robot move any way at once, and a Pioneer
 that first has to turn cannot leave the lane of a fast walker closing from just behind
-(development seeds 53, 66, 69, 97 and 99 of 0–99; none for the holonomic PR2).
+(development seeds 0–99: Pioneer 53, 66, 69, 97 and 99; none for the PR2, which moves
+sideways at once, though its acceleration limits can bind too).
 """
 
 from __future__ import annotations
