@@ -93,3 +93,31 @@ def test_no_waived_condition_is_said_in_words(tmp_path: Path):
     report = build_generated_report([row("queue", "paccet", "pr2", 1, True, 12.0)], tmp_path)
     text = report.read_text()
     assert "with the reason: none here." in text and "listed below" not in text
+
+
+def test_worst_failures_come_worst_first(tmp_path: Path):
+    # a collision, then two failed conditions, then the closer approach (newcomer trial: the
+    # table was in seed order, a 0.68 m pass between two runs above 1 m)
+    def failed(seed, conditions, closest, collisions=0.0):
+        return row(
+            "hallway",
+            "paccet",
+            "pr2",
+            seed,
+            False,
+            20.0,
+            failed_required=conditions,
+            min_distance_center=closest,
+            collisions=collisions,
+        )
+
+    rows = [
+        failed(10001, "no_personal_space_intrusion", 1.15),
+        failed(10002, "no_personal_space_intrusion", 0.68),
+        failed(10003, "no_collision,no_personal_space_intrusion", 0.3, collisions=1.0),
+        failed(10004, "reached_goal,no_personal_space_intrusion", 0.9),
+    ]
+    report = build_generated_report(rows, tmp_path).read_text()
+    table = report[report.index("Worst failures of paccet") :]
+    at = [table.index(f"| hallway | pr2 | {seed} |") for seed in (10003, 10004, 10002, 10001)]
+    assert at == sorted(at)

@@ -206,9 +206,14 @@ def crowdnav_section(doc: Document, rows: Sequence[dict[str, Any]], planners: li
     )
 
 
-def _badness(row: dict[str, Any]) -> tuple[int, float]:
+def _badness(row: dict[str, Any]) -> tuple[int, int, float]:
+    """Sort key, worst first: a collision, then more failed conditions, then the closer
+    approach to a person (centre to centre; a run without one sorts last among its peers)."""
     collided = (row.get("collisions") or 0) > 0
-    return (0 if collided else 1, -len(str(row.get("failed_required") or "")))
+    failed = [c for c in str(row.get("failed_required") or "").split(",") if c]
+    closest = row.get("min_distance_center")
+    closest = float(closest) if closest is not None and math.isfinite(closest) else math.inf
+    return (0 if collided else 1, -len(failed), closest)
 
 
 def worst_failures_section(
@@ -218,7 +223,8 @@ def worst_failures_section(
     planner: str = OURS,
     given_only: bool = False,
 ) -> None:
-    """The worst failed runs of ``planner`` (collisions first), each with its picture, failed
+    """The worst failed runs of ``planner`` (:func:`_badness`: collisions, then the most failed
+    conditions, then the closest approach to a person), each with its picture, failed
     conditions and the command that reruns it (``given_only``: the rows are the runs with the
     context given, the detected ones being compared in their own section)."""
     failed = [r for r in rows if r["planner"] == planner and r.get("success") != 1.0]
