@@ -163,7 +163,8 @@ def check_crowd_task(
     the recording's time span (0 to its last sample), ``start``/``goal`` (m) outside its
     annotated area (:attr:`Recording.area`, the border of the crowd's open space) shrunk by
     ``margin`` (m: the robot's circumscribed radius, so its footprint starts and ends clear of
-    the border at any heading), or a negative ``switch_distance`` (m)."""
+    the border at any heading), a ``goal`` within the goal tolerance of ``start`` (nothing to
+    drive), or a negative ``switch_distance`` (m)."""
     where = str(recording.source) if recording.source is not None else recording.name
     area = recording.area
     width, height = area.size
@@ -190,6 +191,13 @@ def check_crowd_task(
                 f"{flag} {xy[0]:g} {xy[1]:g}: {inside} the annotated area of {where}: "
                 f"x {area.xmin:.2f} to {area.xmax:.2f} m, y {area.ymin:.2f} to {area.ymax:.2f} m"
             )
+    from socialnav.sim.replay import CrowdTask
+
+    if math.dist(start, goal) <= CrowdTask.goal_tolerance:
+        raise ConfigurationError(
+            f"--start and --goal are {math.dist(start, goal):.2f} m apart: the robot would "
+            f"arrive at once (the goal tolerance is {CrowdTask.goal_tolerance:g} m)"
+        )
     if switch_distance is not None and not switch_distance >= 0:
         raise ConfigurationError(
             f"--switch-distance must be a distance >= 0 m, got {switch_distance:g}"
