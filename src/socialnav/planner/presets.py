@@ -716,7 +716,8 @@ def personal_space_layer(
 #: the other five families' 600 runs the same outcomes; but recorded crowds dev seeds 0–89
 #: went from 345 successes, 8 active-contact and 108 passive-contact episodes to 338, 13 and
 #: 112 (meeting layer without hysteresis: 340, 10, 106), the path length ratio from 1.44 to
-#: 1.52 (1.48), for 0.4 s less within 1.2 m. Still off.
+#: 1.52 (1.48), for 0.4 s less within 1.2 m; with a 5 s horizon 342, 8 and 107, path length
+#: ratio 1.51. Still off.
 MEETING_LAYER = {
     "speed_fraction": 0.8,
     "min_speed": 0.3,
