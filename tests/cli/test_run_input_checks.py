@@ -178,3 +178,24 @@ def test_crowd_figure_title_has_no_seed(reused) -> None:
     out, _ = reused
     figure = plot_crowd_episodes([load_episode(out)])
     assert figure.axes[0].get_title() == "traditional · pr2"
+
+
+def test_an_unknown_scenario_fails_before_the_run_is_announced(tmp_path: Path) -> None:
+    # it printed "running nope_scenario with paccet …" and then the error
+    line = one_line(invoke("run", "nope_scenario", "--out", tmp_path / "run"))
+    assert "unknown scenario 'nope_scenario'" in line
+    assert not (tmp_path / "run").exists()
+    line = one_line(invoke("run", "generated:hallwy", "--out", tmp_path / "run"))
+    assert "unknown generated family 'hallwy'" in line
+    assert not (tmp_path / "run").exists()
+
+
+def test_a_generated_scene_runs_by_its_family_and_seed(tmp_path: Path) -> None:
+    # the scenario check before the run must let generated:<family> names through
+    out = tmp_path / "run"
+    result = invoke(
+        "run", "generated:queue", "--seed", "3", "--planner", "go_to_goal", "--out", out
+    )
+    assert result.exit_code == 0, result.output
+    assert json.loads(result.stdout)["scenario"] == "queue_s3"  # the generated scene's name
+    assert (out / "metrics.json").is_file()

@@ -95,3 +95,11 @@ def test_open_space_costmap_is_bounded_by_the_area() -> None:
     assert cm.cost_at(np.array([0.2, 3.0])) >= 253  # within the inscribed radius
     assert 0 < cm.cost_at(np.array([0.45, 3.0])) < 253  # inflated, not lethal
     assert area.border_distance(np.array([1.0, 3.0])) == pytest.approx(1.0)
+
+
+def test_repr_summarizes_instead_of_printing_every_sample() -> None:
+    # the dataclass repr printed every track's samples (300 000 characters for ETH hotel)
+    tracks = tuple(line_track(pid, 0.0, 500, (0.0, pid), (1.0, 0.0)) for pid in range(1, 40))
+    text = repr(Recording(tracks, frame_period=0.4, groups=((1, 2),)))
+    assert len(text) < 200
+    assert "39 tracks" in text and "1 groups" in text and "0–199.6 s" in text

@@ -150,6 +150,14 @@ class Recording:
     max_gap: float = DEFAULT_MAX_GAP
     _index: dict[int, int] = field(init=False, repr=False, compare=False)
 
+    def __repr__(self) -> str:
+        # the dataclass repr printed every track's samples (300 000 characters for ETH hotel)
+        return (
+            f"Recording({self.name!r}, format={self.format!r}, {len(self.tracks)} tracks, "
+            f"{len(self.groups)} groups, {self.start_time:g}–{self.end_time:g} s, "
+            f"frame_period={self.frame_period:g})"
+        )
+
     def __post_init__(self) -> None:
         if not self.tracks:
             raise ValueError(f"{self.name}: a recording needs at least one track")

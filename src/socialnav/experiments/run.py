@@ -103,6 +103,15 @@ def run_single(
     spec = EpisodeSpec(
         scenario=scenario, planner=planner, robot=robot, seed=seed, humans=humans, context=context
     )
+    from socialnav.experiments.suite import GENERATED_PREFIX
+    from socialnav.sim.generate import GENERATORS
+    from socialnav.sim.scenario import load_scenario
+
+    # an unknown name or a bad file fails before "running …" is said
+    if scenario.startswith(GENERATED_PREFIX):
+        GENERATORS.get(scenario.removeprefix(GENERATED_PREFIX))
+    else:
+        load_scenario(scenario)
     say = progress or (lambda line: None)
     say(f"running {spec.scenario} with {planner} on {robot} (seed {seed}) …")
     result = run_planner_episode(spec, record_diagnostics=True)

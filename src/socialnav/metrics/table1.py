@@ -46,7 +46,9 @@ def total_distance(record: EpisodeRecord) -> float:
 @metric("time_to_goal", unit="s", direction="min", reference=PAPER)
 def time_to_goal(record: EpisodeRecord) -> float:
     """t = t_{k*} - t_0: the first sample time at which |p - target| <= goal_tolerance holds and
-    keeps holding until the end of the record. NaN when the last sample is outside."""
+    keeps holding until the end of the record. NaN when the last sample is outside. A final turn
+    in place at the goal (``ROTATING_TO_GOAL``) is not counted: the status reaches
+    ``GOAL_REACHED`` after it, later than this time."""
     k = goal_reached_index(record)
     if k is None:
         return float("nan")
