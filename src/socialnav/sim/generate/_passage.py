@@ -205,7 +205,7 @@ def _commands(robot: RobotModel) -> FloatArray:
 
 
 class _Lattice:
-    """The state lattice shared by :func:`can_avoid_collision` and
+    """The state lattice shared by :func:`can_avoid_collision`, :func:`can_keep_distance` and
     :func:`personal_space_path`: ``robot`` from ``scn``'s start at rest, each kept state
     branching every :data:`ESCAPE_PERIOD` s into :func:`_commands`, velocities ramping toward
     the command at the acceleration limits and poses integrated every :data:`ESCAPE_STEP` s;
