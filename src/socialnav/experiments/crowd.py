@@ -273,6 +273,7 @@ def run_crowd_single(
     planner, robot or format, an ``out`` that is a file, ``mp4`` without the ``video`` extra,
     a bad file or a task the recording cannot hold (:func:`check_crowd_task`), all before the
     episode runs."""
+    from socialnav.core.robot import ROBOT_MODELS
     from socialnav.crowds import load_recording
     from socialnav.experiments.run import check_outputs, check_robot, write_run
     from socialnav.metrics import compute_metrics, evaluate_success
@@ -284,8 +285,6 @@ def run_crowd_single(
     check_robot(robot)
     check_outputs(fmt, video, out)
     recording = load_recording(data)
-    from socialnav.core.robot import ROBOT_MODELS
-
     radius = ROBOT_MODELS[robot].circumscribed_radius
     check_crowd_task(recording, t0, start, goal, switch_distance, margin=radius)
     say = progress or (lambda line: None)

@@ -90,7 +90,10 @@ def run_single(
     ``progress`` receives one line as each stage starts and ends (the episode, the files, the
     figures, the video), so a person sees what the command is doing.
     """
+    from socialnav.experiments.suite import GENERATED_PREFIX
     from socialnav.metrics import measure_episode
+    from socialnav.sim.generate import GENERATORS
+    from socialnav.sim.scenario import load_scenario
     from socialnav.viz.topdown import plot_episode
 
     CONTROLLERS.get(planner)
@@ -103,10 +106,6 @@ def run_single(
     spec = EpisodeSpec(
         scenario=scenario, planner=planner, robot=robot, seed=seed, humans=humans, context=context
     )
-    from socialnav.experiments.suite import GENERATED_PREFIX
-    from socialnav.sim.generate import GENERATORS
-    from socialnav.sim.scenario import load_scenario
-
     # an unknown name or a bad file fails before "running …" is said
     if scenario.startswith(GENERATED_PREFIX):
         GENERATORS.get(scenario.removeprefix(GENERATED_PREFIX))
@@ -224,7 +223,7 @@ def write_run(
     say("drawing topdown.png …" if cycle is None else "drawing topdown.png and decision.png …")
     save_figure(topdown(), out / "topdown.png")
     if cycle is not None:
-        save_figure(_plot_cycle(result.diagnostics, record, cycle), out / "decision.png")
+        save_figure(decision_figure(result.diagnostics, record, cycle), out / "decision.png")
     if video != "none":
         from socialnav.viz.animation import animate_episode
 
@@ -254,18 +253,11 @@ def decision_cycle(
 
 
 def decision_figure(
-    diagnostics: Sequence[EvaluationRecord | None], record: EpisodeRecord
-) -> Figure | None:
-    """Why a trajectory won, at the multi-objective cycle closest to a person (None if none)."""
-    cycle = decision_cycle(diagnostics, record)
-    return None if cycle is None else _plot_cycle(diagnostics, record, cycle)
-
-
-def _plot_cycle(
     diagnostics: Sequence[EvaluationRecord | None],
     record: EpisodeRecord,
     cycle: tuple[int, float],
 ) -> Figure:
+    """Why a trajectory won at ``cycle``, the ``(step, distance)`` of :func:`decision_cycle`."""
     from socialnav.viz.pareto import plot_decision
 
     step, best_distance = cycle

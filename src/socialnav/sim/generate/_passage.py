@@ -319,6 +319,13 @@ def can_avoid_collision(scn: Scenario, robot: RobotModel, horizon: float = 4.0) 
     return _survives(scn, robot, horizon, gap, radii + circ)
 
 
+def _nearest(states: FloatArray, people: FloatArray) -> FloatArray:
+    """``(N,)`` distance (m) from each state's centre (``states (N, 6)``) to the nearest of
+    ``people (K, 2)``, ``K >= 1``."""
+    rel = people[None] - states[:, None, :2]  # (N, K, 2)
+    return np.asarray(np.hypot(rel[..., 0], rel[..., 1]).min(axis=1))
+
+
 def can_keep_distance(
     scn: Scenario, robot: RobotModel, distance: float = 1.2, horizon: float = 4.0
 ) -> bool:
@@ -335,8 +342,7 @@ def can_keep_distance(
     """
 
     def gap(s: FloatArray, c: FloatArray, sn: FloatArray, people: FloatArray) -> FloatArray:
-        d = np.hypot(*(people[None] - s[:, None, :2]).transpose(2, 0, 1))  # (N, K)
-        return np.asarray(d.min(axis=1) - distance)
+        return _nearest(s, people) - distance
 
     return _survives(scn, robot, horizon, gap, np.full(len(scn.people), distance))
 
@@ -422,8 +428,7 @@ def personal_space_path(
         lowest = np.repeat(closest, len(lattice.commands))
         for s, _, _, alive, now in lattice.period(states, t):
             if scn.people:
-                people = scripted_positions(scn.people, now)
-                d = np.hypot(*(people[None] - s[:, None, :2]).transpose(2, 0, 1)).min(axis=1)
+                d = _nearest(s, scripted_positions(scn.people, now))
                 lowest = np.minimum(lowest, d)
                 alive &= d >= distance
             arrived = alive & (np.hypot(*(s[:, :2] - goal).T) <= tolerance)
