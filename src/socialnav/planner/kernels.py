@@ -1757,6 +1757,97 @@ def footprint_mask(
     return mask
 
 
+# ---- timed passing: one lattice period -------------------------------------------------------
+
+
+@_jit
+def _lattice_period_kernel(  # type: ignore[no-untyped-def]
+    states, commands, acc, step, times, people, vel, need, low_in, s_out, poses, alive, low
+):
+    """The operations of :func:`socialnav.planner.passing.lattice_period_reference` per
+    (state, command) row ``i * C + j``, in its order; a row stops at its first sample nearer
+    than ``need`` to someone (it is dropped: its other outputs are left unset)."""
+    n, nc, steps, k_people = states.shape[0], commands.shape[0], times.shape[0] - 1, people.shape[0]
+    for i in range(n):
+        for j in range(nc):
+            r = i * nc + j
+            x, y, th = states[i, 0], states[i, 1], states[i, 2]
+            vx, vy, w = states[i, 3], states[i, 4], states[i, 5]
+            lo = low_in[i]
+            ok = True
+            poses[r, 0, 0] = x
+            poses[r, 0, 1] = y
+            poses[r, 0, 2] = th
+            for k in range(steps):
+                vx += min(max(commands[j, 0] - vx, -acc[0]), acc[0])
+                vy += min(max(commands[j, 1] - vy, -acc[1]), acc[1])
+                w += min(max(commands[j, 2] - w, -acc[2]), acc[2])
+                c = np.cos(th)
+                sn = np.sin(th)
+                x += (c * vx - sn * vy) * step
+                y += (sn * vx + c * vy) * step
+                th += w * step
+                poses[r, k + 1, 0] = x
+                poses[r, k + 1, 1] = y
+                poses[r, k + 1, 2] = th
+                tk = times[k + 1]
+                for q in range(k_people):
+                    d = math.hypot(
+                        people[q, 0] + tk * vel[q, 0] - x, people[q, 1] + tk * vel[q, 1] - y
+                    )
+                    if d < need[q]:
+                        ok = False
+                    if d < lo:
+                        lo = d
+                if not ok:
+                    break
+            alive[r] = ok
+            low[r] = lo
+            s_out[r, 0] = x
+            s_out[r, 1] = y
+            s_out[r, 2] = th
+            s_out[r, 3] = vx
+            s_out[r, 4] = vy
+            s_out[r, 5] = w
+
+
+def lattice_period(
+    states: NDArray[np.float64],
+    commands: NDArray[np.float64],
+    acc: NDArray[np.float64],
+    step: float,
+    times: NDArray[np.float64],
+    people: NDArray[np.float64],
+    vel: NDArray[np.float64],
+    need: NDArray[np.float64],
+    low_in: NDArray[np.float64],
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.bool_], NDArray[np.float64]]:
+    """:func:`socialnav.planner.passing.lattice_period_reference` compiled: the same values on
+    every row that stays alive (a dropped row's state, poses and distance are unset)."""
+    rows = states.shape[0] * commands.shape[0]
+    s_out = np.empty((rows, 6))
+    poses = np.empty((rows, times.shape[0], 3))
+    alive = np.empty(rows, dtype=np.bool_)
+    low = np.empty(rows)
+    f64 = np.float64
+    _lattice_period_kernel(
+        np.ascontiguousarray(states, dtype=f64),
+        np.ascontiguousarray(commands, dtype=f64),
+        np.ascontiguousarray(acc, dtype=f64),
+        float(step),
+        np.ascontiguousarray(times, dtype=f64),
+        np.ascontiguousarray(people, dtype=f64).reshape(-1, 2),
+        np.ascontiguousarray(vel, dtype=f64).reshape(-1, 2),
+        np.ascontiguousarray(need, dtype=f64),
+        np.ascontiguousarray(low_in, dtype=f64),
+        s_out,
+        poses,
+        alive,
+        low,
+    )
+    return s_out, poses, alive, low
+
+
 # ---- warm-up -------------------------------------------------------------------------------
 
 
@@ -1799,6 +1890,8 @@ def warmup() -> float:
     clearance_levels(costs != 0, 3.0, 0, 0, np.zeros((4, 4), np.uint16)[1:3, 1:3])
     time_box(poses)
     nearest_vertex(poses[:, -1], np.zeros((2, 2)))
+    one = np.ones(1)
+    lattice_period(np.zeros((1, 6)), twists, np.ones(3), 0.1, t, walk, walk, one, one)
     end_point_costs(poses, (0.0, 0.0), 0.25, np.zeros((4, 4), np.float32), costs == 0)
     hit_codes(costs, 253, 2, 2)
     grid_weights(costs, costs == 0, np.array([[0, 1]]), np.array([0.25]), 50.0, 3.0)

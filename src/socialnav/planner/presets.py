@@ -293,8 +293,26 @@ RECOMMENDED_HYSTERESIS = 0.3
 #: 0.05 m: 30–89 67, 27, 212. Adopted instead: the approach rule on the footprint polygon, in
 #: the planner's critic and giving way's test alike (``partner_objectives``): 0–29 36, 3, 115;
 #: 30–89 72, 6, 232.
+#: ``paccet``'s timed passing (``RecoveryParams.passing_distance``; ``planner.passing``):
+#: command sequences over 6 s that keep every person's centre 1.25 m away (1.2 m personal space
+#: plus a margin for the gap between the search's 0.1 s samples and the loop's) and end where
+#: the robot can stop untouched, the plan still to go traded 10 m per m of clearance short of
+#: 1.5 m. Generated hallway dev seeds 0–59, both robots: 102 → 111 of 120 passes (13 gained,
+#: all personal-space failures, 3 Pioneer runs lost to the time limit), time on the scenes
+#: both pass +3.4 %; dev seeds 0–29 of crowdnav, crowdnav_visible and mixed: 178 → 178.
+#: Paper suite 34/34; Table 1 D_l 1.51 → 1.56 m (Pioneer) and 1.44 → 1.50 m (PR2), time
+#: 11.94 → 10.58 s on the PR2. Measured and not kept: the plan still to go alone (no
+#: clearance term), D_l 1.34 / 1.28 m; weight 6 with a beam of 60 scored on progress only,
+#: hallway 114 but PR2 D_l 1.38 m; a beam of 150 with every coarse cell kept, 60–70 ms per
+#: search (step p99 60 ms); no gate on the people near: recorded crowds dev seeds 0–89
+#: successes 345 → 327, active-contact episodes 8 → 22 (constant-velocity forecasts of
+#: recorded pedestrians do not hold for 6 s), hence ``passing_max_people`` within 10 m.
+PASSING_DISTANCE = 1.25
 RECOMMENDED_RECOVERY = RecoveryParams(
-    evasion_personal_distance=1.2, evasion_personal_time=6.0, evasion_hold_step=1.0
+    evasion_personal_distance=1.2,
+    evasion_personal_time=6.0,
+    evasion_hold_step=1.0,
+    passing_distance=PASSING_DISTANCE,
 )
 
 

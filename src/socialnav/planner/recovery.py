@@ -31,6 +31,20 @@ Behaviour (parameters in :class:`RecoveryParams`, ROS/Nav2 names, budgets in sec
   and the one ending nearest the goal wins — the planner's own command when it is clear,
   which ends the evasion. A robot thus leaves a walker's lane and waits beside it, instead of
   backing up in it or stepping aside only as far as 3 s of constant twist show.
+  (3) *timed passing* (``passing_distance`` > 0), tried before giving way whenever (1) or
+  the time-to-collision rule fires and until the triggering walkers have passed the robot,
+  while at most ``passing_max_people`` people are within ``passing_count_range`` m and none
+  of them is already nearer than ``passing_distance`` (it plans on constant-velocity forecasts
+  of everyone near, which hold for a few people walking through a corridor, not in a crowd;
+  measurements at ``presets.PASSING_DISTANCE``):
+  :func:`~socialnav.planner.passing.timed_pass` searches command *sequences* over
+  ``passing_horizon`` s that keep every person's centre ``passing_distance`` m from the
+  robot's (people at constant velocity) and end where the robot can stop without being
+  touched; the first twist of the one with the least plan still to go is commanded. It is
+  searched again every period (0.5 s) and between searches followed while it still holds
+  (:func:`~socialnav.planner.passing.follow_plan`). A sequence that ends more than
+  ``passing_retreat`` m of plan farther from the goal than the encounter began is refused
+  (keeping the distance by fleeing is not the robot's job), and giving way takes over.
 - **Waiting** (status ``WAITING``, zero command; the navigator decelerates it within the
   acceleration limits and replans): when no trajectory is legal, or the legal ones make no
   progress, and a person blocks: within ``person_blocking_distance`` m (footprint circle to
@@ -52,6 +66,7 @@ Behaviour (parameters in :class:`RecoveryParams`, ROS/Nav2 names, budgets in sec
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, fields
 
 import numpy as np
@@ -60,9 +75,11 @@ from socialnav.core.errors import ConfigurationError
 from socialnav.core.geometry import FloatArray, wrap_angle
 from socialnav.core.robot import RobotModel
 from socialnav.core.trajectories import Trajectories
+from socialnav.planner import kernels
 from socialnav.planner.context import PlanningContext
 from socialnav.planner.critics.group import GroupCritic
 from socialnav.planner.critics.interpersonal import footprint_approaches
+from socialnav.planner.critics.map_grid import densify_path
 from socialnav.planner.critics.occupancy import OccupancyCritic
 from socialnav.planner.evasion import (
     closest_approach,
@@ -75,6 +92,7 @@ from socialnav.planner.evasion import (
 )
 from socialnav.planner.limits import CycleClock
 from socialnav.planner.local_planner import PlannerResult, PlannerStatus
+from socialnav.planner.passing import PassingParams, PassingPlan, follow_plan, timed_pass
 from socialnav.planner.protocols import LocalPlannerProtocol
 from socialnav.planner.record import EvaluationRecord
 from socialnav.planner.rollout import RolloutParams, rollout
@@ -117,15 +135,22 @@ class RecoveryParams:
     evasion_personal_time: float = 4.0
     evasion_hold_step: float = 0.0  # off: constant twists over evasion_horizon; paccet 1.0
     evasion_max_horizon: float = 8.0
+    passing_distance: float = 0.0  # off (no timed passing); paccet 1.25
+    passing_horizon: float = 6.0
+    passing_retreat: float = 0.5
+    passing_max_people: int = 3
+    passing_count_range: float = 10.0
 
     def __post_init__(self) -> None:
         for f in fields(self):
             value = getattr(self, f.name)
-            if f.name in ("num_headings", "max_recoveries"):
+            if f.name in ("num_headings", "max_recoveries", "passing_max_people"):
                 if int(value) < 1:
                     raise ConfigurationError(f"recovery parameter {f.name} must be >= 1")
             elif not (np.isfinite(value) and value >= 0):
                 raise ConfigurationError(f"recovery parameter {f.name} must be finite and >= 0")
+        if self.passing_distance > 0 and self.passing_horizon <= 0:
+            raise ConfigurationError("recovery parameter passing_horizon must be positive")
         for name in ("required_movement_radius", "movement_time_allowance", "evasion_horizon"):
             if getattr(self, name) <= 0:
                 raise ConfigurationError(f"recovery parameter {name} must be positive")
@@ -188,6 +213,10 @@ class RecoveringPlanner:
         self._anchor_time = 0.0
         self._goal: FloatArray | None = None
         self._blocked = False  # the previous cycle had no legal command
+        self._pass_until = -math.inf  # timed passing stays on until the walkers have passed
+        self._pass_ref = math.nan  # plan still to go when the encounter began (m)
+        self._pass_plan: PassingPlan | None = None
+        self._pass_t0 = 0.0
 
     def _out(
         self, cmd: FloatArray, status: PlannerStatus, record: EvaluationRecord | None, message: str
@@ -290,10 +319,18 @@ class RecoveringPlanner:
         # Within 6 m. Measured and not adopted: 10 m, so that a fast oncoming walker sets off
         # evasion seconds earlier (generated dev seeds 0–59 of hallway, crowdnav,
         # crowdnav_visible and mixed, both robots: 455 passes against 456).
-        near = np.hypot(*(pos - ctx.pose[:2]).T) <= r.circumscribed_radius + radii + 6.0
+        centre = np.hypot(*(pos - ctx.pose[:2]).T)
+        near = centre <= r.circumscribed_radius + radii + 6.0
         sel = fast & near
         if not sel.any():
             return None
+        # timed passing plans on constant-velocity forecasts of everyone near: only where they
+        # are few, and before anyone is inside the distance it keeps (module docstring)
+        passing = (
+            p.passing_distance > 0
+            and int((centre <= p.passing_count_range + radii).sum()) <= p.passing_max_people
+            and bool((centre >= p.passing_distance).all())
+        )
         pos, vel, radii = pos[sel], vel[sel], radii[sel]
         own = body_to_world_velocity(ctx.pose, result.cmd)
         ttc = time_to_collision(ctx.pose[:2], own, pos, vel, radii + r.circumscribed_radius)
@@ -305,7 +342,17 @@ class RecoveringPlanner:
             cpa, t_cpa = closest_approach(ctx.pose[:2], own, pos, vel)
             trigger |= (cpa < p.evasion_personal_distance) & (t_cpa < p.evasion_personal_time)
         if not trigger.any():
+            if passing and float(ctx.time) < self._pass_until:
+                return self._timed_pass(ctx, result)
             return None
+        if passing:
+            _, t_pass = closest_approach(ctx.pose[:2], np.zeros(2), pos[trigger], vel[trigger])
+            if float(ctx.time) >= self._pass_until:
+                self._pass_ref = math.nan  # a new encounter: its reference is set below
+            self._pass_until = max(self._pass_until, float(ctx.time) + float(t_pass.max()))
+            passed = self._timed_pass(ctx, result)
+            if passed is not None:
+                return passed
         if p.evasion_hold_step > 0:
             return self._give_way(ctx, result, sel, trigger, ttc)
         horizon = p.evasion_horizon
@@ -332,6 +379,59 @@ class RecoveringPlanner:
         who = int(np.flatnonzero(sel)[int(np.argmin(ttc))])
         why = f"evading person {people[who].id} (time to collision {float(ttc.min()):.2f} s)"
         return self._out(twists[k].copy(), PlannerStatus.EVADING, result.record, why)
+
+    def _timed_pass(self, ctx: PlanningContext, result: PlannerResult) -> PlannerResult | None:
+        """The first command of :func:`~socialnav.planner.passing.timed_pass`, or None."""
+        p = self.params
+        path = np.asarray(ctx.global_path, dtype=float).reshape(-1, 2)
+        if path.shape[0] >= 2:
+            dense = densify_path(path, 0.1)
+            arc = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(dense, axis=0).T))])
+            total = float(arc[-1])
+            # the search reaches top speed x horizon; plan beyond that (+2 m) is never nearest
+            reach = np.hypot(self.robot.max_vel_x, self.robot.max_vel_y) * p.passing_horizon
+            cut = max(int(np.searchsorted(arc, reach + 2.0, side="right")), 1)
+            dense, arc = dense[:cut], arc[:cut]
+
+            def to_go(xy: FloatArray) -> FloatArray:
+                i = kernels.nearest_vertex(xy, dense)
+                return np.asarray(total - arc[i] + np.hypot(*(xy - dense[i]).T))
+        else:
+
+            def to_go(xy: FloatArray) -> FloatArray:
+                return np.asarray(np.hypot(*(xy - ctx.goal[:2]).T))
+
+        def static_ok(cmd: FloatArray, poses: FloatArray, t: FloatArray) -> np.ndarray:
+            return self._static_ok(ctx, Trajectories(cmd, poses, t))
+
+        args = (
+            np.asarray(ctx.pose, dtype=float),
+            np.asarray(ctx.velocity, dtype=float),
+            self.robot,
+            ctx.social.positions(),
+            ctx.social.velocities(),
+        )
+        params = PassingParams(distance=p.passing_distance, horizon=p.passing_horizon)
+        contact = ctx.social.radii() + self.robot.circumscribed_radius + 0.1
+        now = float(ctx.time)
+        if self._pass_plan is not None and now - self._pass_t0 < params.period - 1e-6:
+            cmd = follow_plan(
+                self._pass_plan, now - self._pass_t0, *args, static_ok, params, contact
+            )
+            if cmd is not None:
+                kept = self._pass_plan
+                why = f"timed pass (closest {kept.closest:.2f} m over {p.passing_horizon:.1f} s)"
+                return self._out(cmd, PlannerStatus.EVADING, result.record, why)
+        self._pass_plan = None
+        plan = timed_pass(*args, to_go, static_ok, params, contact=contact)
+        here = float(to_go(ctx.pose[None, :2])[0])
+        if not math.isfinite(self._pass_ref):
+            self._pass_ref = here
+        if plan is None or plan.to_go > self._pass_ref + p.passing_retreat:
+            return None  # none, or only by retreating: the distance is not the robot's to keep
+        self._pass_plan, self._pass_t0 = plan, now
+        why = f"timed pass (closest {plan.closest:.2f} m over {p.passing_horizon:.1f} s)"
+        return self._out(plan.command.copy(), PlannerStatus.EVADING, result.record, why)
 
     def _give_way(
         self,

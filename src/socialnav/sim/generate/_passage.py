@@ -28,6 +28,7 @@ import numpy as np
 
 from socialnav.core.geometry import FloatArray
 from socialnav.core.robot import RobotModel
+from socialnav.planner.passing import lattice_commands
 from socialnav.sim.scenario import PersonSpec, Scenario, Track, Walk
 
 
@@ -191,24 +192,12 @@ def _distance_raster(
     return lookup
 
 
-def _commands(robot: RobotModel) -> FloatArray:
-    """Command set ``(C, 3)`` ``(vx, vy, ω)`` (robot frame) of the escape search: each limit
-    and zero (and half the forward speed and turn rate for a differential drive)."""
-    vx = [robot.min_vel_x, 0.0, robot.max_vel_x / 2, robot.max_vel_x]
-    vy = [-robot.max_vel_y, 0.0, robot.max_vel_y] if robot.holonomic else [0.0]
-    if robot.holonomic:
-        vx = [robot.min_vel_x, 0.0, robot.max_vel_x]
-    w = robot.max_vel_theta
-    wz = [-w, 0.0, w] if robot.holonomic else [-w, -w / 2, 0.0, w / 2, w]
-    grid = np.stack(np.meshgrid(vx, vy, wz, indexing="ij"), axis=-1).reshape(-1, 3)
-    return np.unique(grid, axis=0)
-
-
 class _Lattice:
     """The state lattice shared by :func:`can_avoid_collision`, :func:`can_keep_distance` and
     :func:`personal_space_path`: ``robot`` from ``scn``'s start at rest, each kept state
-    branching every :data:`ESCAPE_PERIOD` s into :func:`_commands`, velocities ramping toward
-    the command at the acceleration limits and poses integrated every :data:`ESCAPE_STEP` s;
+    branching every :data:`ESCAPE_PERIOD` s into the robot's lattice commands
+    (:func:`~socialnav.planner.passing.lattice_commands`), velocities ramping toward the
+    command at the acceleration limits and poses integrated every :data:`ESCAPE_STEP` s;
     a state whose footprint touches a wall or obstacle is dropped."""
 
     def __init__(self, scn: Scenario, robot: RobotModel) -> None:
@@ -225,7 +214,7 @@ class _Lattice:
         self.segments = np.concatenate([walls, *obstacle_edges]) if obstacle_edges else walls
         self.wall_distance = _distance_raster(scn, self.segments)
         self.robot = robot
-        self.commands = _commands(robot)
+        self.commands = lattice_commands(robot)
         self.acc = np.array([robot.acc_lim_x, robot.acc_lim_y, robot.acc_lim_theta]) * ESCAPE_STEP
         # state: x, y, θ, vx, vy, ω
         self.start = np.array([[scn.start[0], scn.start[1], scn.start[2], 0.0, 0.0, 0.0]])
@@ -285,8 +274,9 @@ def can_avoid_collision(scn: Scenario, robot: RobotModel, horizon: float = 4.0) 
 
     A state-lattice search with the robot model's velocity and acceleration limits
     (:class:`_Lattice`): every :data:`ESCAPE_PERIOD` s each kept state branches into
-    :func:`_commands`; the velocities ramp toward the command at the acceleration limits, poses
-    integrate every :data:`ESCAPE_STEP` s and a state touching a person or a wall is dropped.
+    :func:`~socialnav.planner.passing.lattice_commands`; the velocities ramp toward the command
+    at the acceleration limits, poses integrate every :data:`ESCAPE_STEP` s and a state
+    touching a person or a wall is dropped.
     States sharing a lattice cell (:data:`ESCAPE_CELL`, and the command) are merged; beyond
     :data:`ESCAPE_STATES` the ones farthest from people are kept. ``False`` means every
     sequence of the lattice collides: a walker who ignores the robot (the paper's people) runs
