@@ -115,11 +115,18 @@ def _applies(flags: list[str]) -> str:
 def run(
     ctx: typer.Context,
     scenario: Annotated[
-        str | None, typer.Argument(help="Built-in scenario name or path to a YAML file.")
+        str | None,
+        typer.Argument(
+            help="Built-in scenario name, generated:FAMILY (a generated scene, --seed picks "
+            "it) or path to a YAML file."
+        ),
     ] = None,
     planner: Annotated[str, typer.Option(help="Planner name (see `socialnav list`).")] = "paccet",
     robot: Annotated[str, typer.Option(help=ROBOT_HELP)] = "pr2",
-    seed: Annotated[int, typer.Option(help="Scenario only: seed for its jitter.")] = 0,
+    seed: Annotated[
+        int,
+        typer.Option(help="Scenario only: seed for its jitter (a generated scene: which one)."),
+    ] = 0,
     humans: Annotated[
         str, typer.Option(help="Scenario only: scripted (the paper) or reactive (navground HL).")
     ] = ("scripted"),

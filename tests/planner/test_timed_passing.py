@@ -189,7 +189,12 @@ def test_the_control_loop_keeps_personal_space_in_a_generated_hallway() -> None:
         {"period": float("nan")},
         {"step": 1.0, "period": 0.5},
         {"beam": 0},
+        {"beam": 2.5},
         {"hold": float("inf")},
+        {"cell": (0.0, 0.1)},
+        {"coarse": (0.3, -1.0)},
+        {"comfort": float("nan")},
+        {"clearance_weight": -1.0},
     ],
 )
 def test_bad_passing_parameters_are_refused(bad) -> None:
@@ -245,3 +250,18 @@ def test_timed_passing_runs_for_a_lone_walker_and_not_in_a_crowd() -> None:
     among_many = _messages(PR2, crowd)
     assert not any(m.startswith("timed pass") for m in among_many)
     assert any(m.startswith("giving way") for m in among_many)  # the walker still triggers
+
+
+@pytest.mark.parametrize(
+    ("pose", "people", "vel", "name"),
+    [
+        ([np.nan, 0.0, 0.0], [[5.0, 0.0]], [[-1.0, 0.0]], "pose"),
+        ([0.0, 0.0], [[5.0, 0.0]], [[-1.0, 0.0]], "pose"),
+        ([0.0, 0.0, 0.0], [[5.0, np.nan]], [[-1.0, 0.0]], "people"),
+        ([0.0, 0.0, 0.0], [[5.0, 0.0]], [[np.inf, 0.0]], "people_velocities"),
+        ([0.0, 0.0, 0.0], [[5.0, 0.0], [6.0, 1.0]], [[-1.0, 0.0]], "people_velocities"),
+    ],
+)
+def test_bad_inputs_name_the_argument(pose, people, vel, name) -> None:
+    with pytest.raises(ValueError, match=name):
+        timed_pass(np.asarray(pose), np.zeros(3), PR2, people, vel, to_goal, anywhere)

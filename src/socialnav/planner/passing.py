@@ -56,19 +56,68 @@ class PassingParams:
     clearance_weight: float = 10.0
 
     def __post_init__(self) -> None:
-        positive = ("distance", "horizon", "period", "step")
-        bad = [
-            n for n in positive if not (math.isfinite(getattr(self, n)) and getattr(self, n) > 0)
-        ]
-        if bad or self.beam < 1 or not (math.isfinite(self.hold) and self.hold >= 0):
+        positive = ("distance", "horizon", "period", "step", *_pair("cell"), *_pair("coarse"))
+        nonnegative = ("hold", "comfort", "clearance_weight")
+        bad = [n for n in positive if not (_finite(self, n) and _value(self, n) > 0)]
+        bad += [n for n in nonnegative if not (_finite(self, n) and _value(self, n) >= 0)]
+        if not isinstance(self.beam, int) or isinstance(self.beam, bool) or self.beam < 1:
+            bad.append("beam")
+        if bad:
             raise ValueError(
-                f"passing parameters: {', '.join(bad) or 'beam/hold'} must be positive and "
-                f"finite (beam >= 1, hold >= 0), got {self}"
+                f"passing parameters: {', '.join(bad)} out of range (distance, horizon, period, "
+                f"step, cell and coarse positive; hold, comfort and clearance_weight >= 0; all "
+                f"finite; beam an integer >= 1), got {self}"
             )
         if self.step > self.period:
             raise ValueError(
                 f"passing parameters: step {self.step} s exceeds period {self.period} s"
             )
+
+
+def _pair(name: str) -> tuple[str, str]:
+    return f"{name}[0]", f"{name}[1]"
+
+
+def _value(params: PassingParams, name: str) -> float:
+    """A field of ``params`` by name, ``"cell[1]"`` for an element of a pair."""
+    if name.endswith("]"):
+        field, index = name[:-1].split("[")
+        return float(getattr(params, field)[int(index)])
+    return float(getattr(params, name))
+
+
+def _finite(params: PassingParams, name: str) -> bool:
+    try:
+        return math.isfinite(_value(params, name))
+    except (TypeError, ValueError, IndexError):
+        return False
+
+
+def _checked(
+    pose: FloatArray, twist: FloatArray, people: FloatArray, people_velocities: FloatArray
+) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+    """The inputs of :func:`timed_pass` as float arrays; ``ValueError`` naming the argument
+    when a shape is wrong or a value is not finite."""
+    pose = np.asarray(pose, dtype=float)
+    twist = np.asarray(twist, dtype=float)
+    people = np.asarray(people, dtype=float).reshape(-1, 2)
+    vel = np.asarray(people_velocities, dtype=float).reshape(-1, 2)
+    for name, a, shape in (("pose", pose, (3,)), ("twist", twist, (3,))):
+        if a.shape != shape:
+            raise ValueError(f"timed_pass: {name} must have shape {shape}, got {a.shape}")
+    if people.shape != vel.shape:
+        raise ValueError(
+            f"timed_pass: people {people.shape} and people_velocities {vel.shape} differ"
+        )
+    for name, a in (
+        ("pose", pose),
+        ("twist", twist),
+        ("people", people),
+        ("people_velocities", vel),
+    ):
+        if not np.all(np.isfinite(a)):
+            raise ValueError(f"timed_pass: {name} has a non-finite value")
+    return pose, twist, people, vel
 
 
 @dataclass(frozen=True)
@@ -114,13 +163,19 @@ def timed_pass(
     """Search (module docstring) from ``pose (3,)`` world and ``twist (3,)`` body; ``people
     (K, 2)`` m and ``people_velocities (K, 2)`` m/s world frame; ``to_go(xy (N, 2)) -> (N,)``
     the plan length (m) still to go; ``static_ok(commands (N, 3), poses (N, S, 3), t (S,)) ->
-    (N,) bool`` the static check of one period's poses. Returns ``None`` when no sequence keeps
-    the distance for the whole horizon."""
+    (N,) bool`` the static check of one period's poses (column 0 is the period's start);
+    ``contact (K,)`` m: the centre distance at which each person would touch the robot
+    standing still (person radius + circumscribed radius + a margin) — without it the final
+    safe-stop check is skipped.
+
+    Returns ``None`` when no sequence survives the horizon: every one comes nearer than the
+    distance to someone, or fails the static check, or ends where someone walking on would
+    touch the robot stopped there. Raises ``ValueError`` on a wrong shape or a non-finite
+    input (naming the argument)."""
     p = params or PassingParams()
+    pose, twist, people, vel = _checked(pose, twist, people, people_velocities)
     commands = lattice_commands(robot)
     acc = np.array([robot.acc_lim_x, robot.acc_lim_y, robot.acc_lim_theta]) * p.step
-    people = np.asarray(people, dtype=float).reshape(-1, 2)
-    vel = np.asarray(people_velocities, dtype=float).reshape(-1, 2)
     now = np.hypot(*(people - pose[:2]).T) if len(people) else np.zeros(0)
     need = np.minimum(p.distance, now - 1e-6)  # someone already inside: no nearer than now
     states = np.concatenate([pose, twist])[None].astype(float)
@@ -234,12 +289,11 @@ def follow_plan(
     :func:`timed_pass`). Between searches the control loop only checks the plan it follows
     (a receding horizon replanned every period)."""
     p = params or PassingParams()
+    pose, twist, people, vel = _checked(pose, twist, people, people_velocities)
     j = int(elapsed // p.period + 1e-9)
-    if j >= len(plan.commands):
+    if not (elapsed >= 0 and j < len(plan.commands)):
         return None
     acc = np.array([robot.acc_lim_x, robot.acc_lim_y, robot.acc_lim_theta]) * p.step
-    people = np.asarray(people, dtype=float).reshape(-1, 2)
-    vel = np.asarray(people_velocities, dtype=float).reshape(-1, 2)
     now = np.hypot(*(people - pose[:2]).T) if len(people) else np.zeros(0)
     need = np.minimum(p.distance, now - 1e-6)
     state = np.concatenate([pose, twist])[None].astype(float)
