@@ -297,7 +297,7 @@ RECOMMENDED_HYSTERESIS = 0.3
 #: command sequences over 6 s that keep every person's centre 1.25 m away (1.2 m personal space
 #: plus a margin for the gap between the search's 0.1 s samples and the loop's) and end where
 #: the robot can stop untouched, the plan still to go traded 10 m per m of clearance short of
-#: 1.5 m. Generated hallway dev seeds 0–59, both robots: 102 → 111 of 120 passes (13 gained,
+#: 1.5 m. Generated hallway dev seeds 0–59, both robots: 102 → 111 of 120 passes (12 gained,
 #: all personal-space failures, 3 Pioneer runs lost to the time limit), time on the scenes
 #: both pass +3.4 %; dev seeds 0–29 of crowdnav, crowdnav_visible and mixed: 178 → 178.
 #: Paper suite 34/34; Table 1 D_l 1.51 → 1.56 m (Pioneer) and 1.44 → 1.50 m (PR2), time
