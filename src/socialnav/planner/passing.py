@@ -175,10 +175,7 @@ def timed_pass(
     p = params or PassingParams()
     pose, twist, people, vel = _checked(pose, twist, people, people_velocities)
     commands = lattice_commands(robot)
-    acc = np.array([robot.acc_lim_x, robot.acc_lim_y, robot.acc_lim_theta]) * p.step
-    now = np.hypot(*(people - pose[:2]).T) if len(people) else np.zeros(0)
-    need = np.minimum(p.distance, now - 1e-6)  # someone already inside: no nearer than now
-    states = np.concatenate([pose, twist])[None].astype(float)
+    acc, need, states = _start(pose, twist, robot, people, p)
     first = v1 = np.zeros((1, 3))
     history: list[FloatArray] = []  # per period: (parent index (N,), command (N, 3), pose)
     closest = np.full(1, np.inf)
@@ -191,8 +188,7 @@ def timed_pass(
         for k in range(substeps):
             t += p.step
             times[k + 1] = t
-        period = kernels.lattice_period if kernels.enabled() else lattice_period_reference
-        s, poses, alive, low = period(
+        s, poses, alive, low = _period()(
             states, commands, acc, p.step, times, people, vel, need, closest
         )
         cmd = np.tile(commands, (n, 1))
@@ -207,8 +203,8 @@ def timed_pass(
         go = to_go(s[keep, :2]) + p.clearance_weight * np.maximum(p.comfort - low[keep], 0.0)
         order = np.argsort(go, kind="stable")
         keep = keep[order]
-        # beam order: each coarse cell's state nearest the goal first, then the rest by plan
-        # still to go (waiting beside a wall stays alive next to driving on)
+        # beam order: each coarse cell's best state first, then the rest by score (waiting
+        # beside a wall stays alive next to driving on)
         coarse = np.concatenate(
             [np.round(s[keep, :2] / p.coarse[0]), np.round(s[keep, 2:3] / p.coarse[1])], axis=1
         )
@@ -216,26 +212,23 @@ def timed_pass(
         later = np.ones(keep.size, dtype=bool)
         later[spread] = False
         rest = np.flatnonzero(later)
-        width = p.beam
-        keep = keep[np.concatenate([spread, rest])[: 2 * width]]
+        keep = keep[np.concatenate([spread, rest])[: 2 * p.beam]]
         # the static check (the costlier test) only on the beam's candidates
-        keep = keep[static_ok(cmd[keep], poses[keep], times)][:width]
+        keep = keep[static_ok(cmd[keep], poses[keep], times)][: p.beam]
         if keep.size == 0:
             return None
         first = v1[keep] if not history else first[parent[keep]]
         history.append(np.column_stack([parent[keep], cmd[keep], s[keep, :3]]))
         states, closest = s[keep], low[keep]
-    if len(people) and p.hold > 0 and contact is not None:
-        safe = _safe_to_stop(states, t, people, vel, contact, p)
-        if not safe.any():
-            return None
-        states, closest = states[safe], closest[safe]
-        history[-1] = history[-1][safe]
-        first = first[safe]
+    safe = _safe_to_stop(states, t, people, vel, contact, p)
+    if not safe.any():
+        return None
+    states, closest, first = states[safe], closest[safe], first[safe]
+    history[-1] = history[-1][safe]
     # the least plan still to go, each metre of clearance short of ``comfort`` counting as
     # ``clearance_weight`` m of it (the paper's ID objective is zero beyond 1.5 m)
-    short = np.maximum(p.comfort - closest, 0.0)
-    best = int(np.argmin(to_go(states[:, :2]) + p.clearance_weight * short))
+    end = to_go(states[:, :2])
+    best = int(np.argmin(end + p.clearance_weight * np.maximum(p.comfort - closest, 0.0)))
     # walk the parents back for the whole sequence
     rows = []
     i = best
@@ -249,8 +242,25 @@ def timed_pass(
         commands=seq[:, 1:4],
         poses=seq[:, 4:7],
         closest=float(closest[best]),
-        to_go=float(to_go(states[best : best + 1, :2])[0]),
+        to_go=float(end[best]),
     )
+
+
+def _start(
+    pose: FloatArray, twist: FloatArray, robot: RobotModel, people: FloatArray, p: PassingParams
+) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """What both searches start from: the twist change per step ``(3,)``, the distance each
+    person must keep ``(K,)`` (someone already inside it: no nearer than now) and the state
+    ``(1, 6)``."""
+    acc = np.array([robot.acc_lim_x, robot.acc_lim_y, robot.acc_lim_theta]) * p.step
+    now = np.hypot(*(people - pose[:2]).T) if len(people) else np.zeros(0)
+    need = np.minimum(p.distance, now - 1e-6)
+    return acc, need, np.concatenate([pose, twist])[None].astype(float)
+
+
+def _period() -> Callable[..., tuple[FloatArray, FloatArray, np.ndarray, FloatArray]]:
+    """One lattice period: the compiled kernel or its NumPy reference."""
+    return kernels.lattice_period if kernels.enabled() else lattice_period_reference
 
 
 def _safe_to_stop(
@@ -258,12 +268,14 @@ def _safe_to_stop(
     t: float,
     people: FloatArray,
     vel: FloatArray,
-    contact: FloatArray,
+    contact: FloatArray | None,
     p: PassingParams,
 ) -> np.ndarray:
     """``(N,)``: the robot standing at each of ``states (N, 6)`` from ``t`` s on is not touched
     (centre distance ``>= contact (K,)`` m) by anyone walking on for ``p.hold`` s: the search
-    ends in no trap at its horizon."""
+    ends in no trap at its horizon. All true without people, ``hold`` or ``contact``."""
+    if not (len(people) and p.hold > 0 and contact is not None):
+        return np.ones(len(states), dtype=bool)
     th = t + np.arange(0.0, p.hold + 1e-9, p.step)
     fut = people[None] + th[:, None, None] * vel[None]  # (H, K, 2)
     rel = fut[None] - states[:, None, None, :2]  # (N, H, K, 2)
@@ -293,12 +305,9 @@ def follow_plan(
     j = int(elapsed // p.period + 1e-9)
     if not (elapsed >= 0 and j < len(plan.commands)):
         return None
-    acc = np.array([robot.acc_lim_x, robot.acc_lim_y, robot.acc_lim_theta]) * p.step
-    now = np.hypot(*(people - pose[:2]).T) if len(people) else np.zeros(0)
-    need = np.minimum(p.distance, now - 1e-6)
-    state = np.concatenate([pose, twist])[None].astype(float)
+    acc, need, state = _start(pose, twist, robot, people, p)
     closest = np.full(1, np.inf)
-    period = kernels.lattice_period if kernels.enabled() else lattice_period_reference
+    period = _period()
     t, end = 0.0, (j + 1) * p.period - elapsed
     for k in range(j, len(plan.commands)):
         steps = max(1, round(end / p.step))
@@ -310,10 +319,7 @@ def follow_plan(
         if not alive[0] or not static_ok(cmd, poses, times)[0]:
             return None
         t, end = float(times[-1]), p.period
-    stops_safely = not (len(people) and p.hold > 0 and contact is not None) or bool(
-        _safe_to_stop(state, t, people, vel, contact, p)[0]
-    )
-    if not stops_safely:
+    if not _safe_to_stop(state, t, people, vel, contact, p)[0]:
         return None
     return _first_step_velocity(np.concatenate([pose, twist]), plan.commands[j : j + 1], acc)[0]
 

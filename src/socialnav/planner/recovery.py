@@ -419,9 +419,7 @@ class RecoveringPlanner:
                 self._pass_plan, now - self._pass_t0, *args, static_ok, params, contact
             )
             if cmd is not None:
-                kept = self._pass_plan
-                why = f"timed pass (closest {kept.closest:.2f} m over {p.passing_horizon:.1f} s)"
-                return self._out(cmd, PlannerStatus.EVADING, result.record, why)
+                return self._passing_out(cmd, self._pass_plan, result)
         self._pass_plan = None
         plan = timed_pass(*args, to_go, static_ok, params, contact=contact)
         here = float(to_go(ctx.pose[None, :2])[0])
@@ -430,8 +428,14 @@ class RecoveringPlanner:
         if plan is None or plan.to_go > self._pass_ref + p.passing_retreat:
             return None  # none, or only by retreating: the distance is not the robot's to keep
         self._pass_plan, self._pass_t0 = plan, now
-        why = f"timed pass (closest {plan.closest:.2f} m over {p.passing_horizon:.1f} s)"
-        return self._out(plan.command.copy(), PlannerStatus.EVADING, result.record, why)
+        return self._passing_out(plan.command.copy(), plan, result)
+
+    def _passing_out(
+        self, cmd: FloatArray, plan: PassingPlan, result: PlannerResult
+    ) -> PlannerResult:
+        """``EVADING`` with ``cmd``, on ``plan``."""
+        why = f"timed pass (closest {plan.closest:.2f} m over {self.params.passing_horizon:.1f} s)"
+        return self._out(cmd, PlannerStatus.EVADING, result.record, why)
 
     def _give_way(
         self,
