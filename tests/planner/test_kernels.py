@@ -743,3 +743,34 @@ def test_heading_plan_identical(seed: int, n: int, reach: float | None, repeat: 
     assert ref is not None and fast is not None
     for name in ("dense", "s", "tangent"):
         assert np.array_equal(getattr(ref, name), getattr(fast, name)), name
+
+
+@settings(max_examples=60)
+@given(
+    seed=st.integers(0, 2**31 - 1),
+    n=st.integers(1, 400),
+    scale=st.sampled_from([0.05, 0.4, 2.0]),
+    shape=st.sampled_from(["pr2", "pioneer", "random", "degenerate"]),
+)
+def test_signed_distance_to_polygon_identical(seed: int, n: int, scale: float, shape: str) -> None:
+    """The footprint's signed distance to points bit for bit, vertices and edges included
+    (the footprint approach rule's inner loop), for the robots' footprints and random ones."""
+    from socialnav.core.geometry import signed_distance_to_polygon
+
+    rng = np.random.default_rng(seed)
+    polygon = {
+        "pr2": PR2.polygon,
+        "pioneer": PIONEER.polygon,
+        "random": rng.normal(size=(int(rng.integers(3, 9)), 2)),
+        "degenerate": np.array([[0.0, 0.0], [0.0, 0.0], [1.0, 0.0], [1.0, 1.0]]),
+    }[shape]
+    points = rng.normal(scale=scale, size=(n, 2))
+    k = min(n, 4)
+    points[:k] = polygon[rng.integers(0, len(polygon), k)]  # on vertices exactly
+    if n > k:  # on an edge's midpoint
+        points[k] = 0.5 * (polygon[0] + polygon[1])
+    expected = signed_distance_to_polygon(points, polygon)
+    got = kernels.signed_distance_to_polygon(points, polygon)
+    assert got.shape == expected.shape and np.array_equal(got, expected)
+    grid = points.reshape(1, n, 2)  # leading dimensions are kept
+    assert kernels.signed_distance_to_polygon(grid, polygon).shape == (1, n)

@@ -673,6 +673,51 @@ def approaches(
 
 
 @_jit
+def _polygon_distance_kernel(points, polygon, out):  # type: ignore[no-untyped-def]
+    """:func:`socialnav.core.geometry.signed_distance_to_polygon` in its operations, per point:
+    the nearest edge's distance (projection clipped to the edge, degenerate edges as points),
+    negative when the even-odd count of edges crossed leftward of the point is odd."""
+    v = polygon.shape[0]
+    for m in range(points.shape[0]):
+        px, py = points[m, 0], points[m, 1]
+        best = np.inf
+        crossings = 0
+        for e in range(v):
+            ax, ay = polygon[e, 0], polygon[e, 1]
+            bx, by = polygon[(e + 1) % v, 0], polygon[(e + 1) % v, 1]
+            abx, aby = bx - ax, by - ay
+            denom = abx * abx + aby * aby
+            safe = denom if denom > 0.0 else 1.0
+            u = ((px - ax) * abx + (py - ay) * aby) / safe
+            u = min(max(u, 0.0), 1.0)
+            dx = px - (ax + u * abx)
+            dy = py - (ay + u * aby)
+            d = np.sqrt(dx * dx + dy * dy)
+            if d < best:
+                best = d
+            if (ay > py) != (by > py):
+                rise = by - ay if by != ay else 1.0
+                if px < ax + (py - ay) * (bx - ax) / rise:
+                    crossings += 1
+        out[m] = -best if crossings % 2 == 1 else best
+
+
+def signed_distance_to_polygon(
+    points: NDArray[np.float64], polygon: NDArray[np.float64]
+) -> NDArray[np.float64]:
+    """Signed distance (m) of ``points (..., 2)`` to the boundary of ``polygon (V, 2)``,
+    negative inside: shape ``(...)``; bit-identical to the NumPy reference
+    (:func:`socialnav.core.geometry.signed_distance_to_polygon`), without its ``(..., V)``
+    temporaries (the footprint approach rule calls it on thousands of poses)."""
+    pts = np.ascontiguousarray(points, dtype=np.float64)
+    out = np.empty(pts.shape[:-1])
+    _polygon_distance_kernel(
+        pts.reshape(-1, 2), np.ascontiguousarray(polygon, dtype=np.float64), out.reshape(-1)
+    )
+    return out
+
+
+@_jit
 def _time_box_kernel(xy, lo, hi):  # type: ignore[no-untyped-def]
     n, t = xy.shape[0], xy.shape[1]
     for k in range(t):
@@ -1882,6 +1927,7 @@ def warmup() -> float:
     flags = np.ones(1, dtype=np.bool_)
     person_distances(out, people, poses[:, -1, :2], walk, walk, flags, np.ones(1), flags)
     approaches(poses, t, np.zeros((4, 1, 2)), out, people, np.ones(1), 0.02)
+    signed_distance_to_polygon(np.zeros((2, 2)), outline)
     bfs_distance(np.ones((3, 3), dtype=bool), np.array([[1, 1]], dtype=np.intp))
     footprint_mask(GridGeometry((4, 4), 0.25), outline, pose)
     dense = densify_path(np.array([[0.0, 0.0], [1.0, 0.5]]), 0.1)

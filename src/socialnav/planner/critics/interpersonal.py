@@ -474,7 +474,10 @@ def footprint_approaches(
         before, after = np.maximum(t_i - 1, 0), np.minimum(t_i + 1, last)
         # the person seen from the pose at sample i, the pose before it and the pose after it
         q = np.concatenate([poses[r_i, t_i], poses[r_i, before], poses[r_i, after]])
-        sd = signed_distance_to_polygon(world_to_body_frames(np.tile(at, (3, 1)), q), polygon)
+        signed = (
+            kernels.signed_distance_to_polygon if kernels.enabled() else signed_distance_to_polygon
+        )
+        sd = signed(world_to_body_frames(np.tile(at, (3, 1)), q), polygon)
         here, from_before, to_after = sd.reshape(3, -1)
         touch = here < radii[k]
         into = np.where(t_i > 0, (from_before - here) / dt[before], -np.inf)
