@@ -242,6 +242,12 @@ def path_cost(
     return path_costs(costmap, path, start_xy, neutral_cost, cost_factor, lethal_cost)[0]
 
 
+def path_length(path: ArrayLike) -> float:
+    """Length (m) of the polyline ``path (P, 2)`` (0 for fewer than two points)."""
+    xy = np.asarray(path, dtype=float).reshape(-1, 2)
+    return float(np.hypot(*np.diff(xy, axis=0).T).sum())
+
+
 def path_costs(
     costmap: Costmap,
     path: ArrayLike,
