@@ -4,14 +4,18 @@ corridor, or goes round people standing still, is kept."""
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
+from socialnav.core.errors import ConfigurationError, InvalidInputError
 from socialnav.core.robot import PR2
 from socialnav.core.scene import Person, SocialContext
 from socialnav.planner.global_planner import path_length
 from socialnav.planner.navigator import Navigator
-from socialnav.planner.presets import DETOUR_LIMIT, build_navigator
+from socialnav.planner.presets import DETOUR_LIMIT, PRESETS, build_navigator
+from socialnav.sim.stack import StackController
 from socialnav.world.grid import LETHAL, Costmap, GridGeometry
 
 START, GOAL = np.array([0.0, -4.0, np.pi / 2]), np.array([0.0, 4.0, np.pi / 2])
@@ -84,11 +88,52 @@ def test_a_plan_that_moves_aside_in_a_corridor_is_kept():
     assert kept[:, 1].min() < -0.5  # moved aside
 
 
-def test_detour_limit_must_be_finite_and_non_negative():
+def test_path_length_names_a_malformed_path():
+    with pytest.raises(InvalidInputError, match="path"):
+        path_length([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]])  # poses, not points
+    with pytest.raises(InvalidInputError, match="path"):
+        path_length([[0.0, 0.0], [np.nan, 1.0]])
+
+
+@pytest.mark.parametrize("bad", [-0.1, float("nan"), float("inf"), "0.5", True, None])
+def test_detour_limit_must_be_a_finite_non_negative_number(bad):
+    """Checked where it is set: the navigator, the preset (named in the error), the
+    builders' overrides; a limit without the plan to compare with is refused too."""
     nav = build_navigator("paccet", PR2, room(), GOAL, SocialContext())
-    for bad in (-0.1, float("nan"), float("inf")):
-        with pytest.raises(ValueError, match="detour_limit"):
-            Navigator(PR2, nav.local_planner, nav.costmap, GOAL, detour_limit=bad)
+    with pytest.raises(ValueError, match="detour_limit"):
+        Navigator(PR2, nav.local_planner, nav.costmap, GOAL, detour_limit=bad)
+    with pytest.raises(ConfigurationError, match=r"PaCcET.*detour_limit"):
+        replace(PRESETS.get("paccet"), detour_limit=bad)
+    if bad is not None:  # None is the builders' "the preset's own"
+        with pytest.raises(ConfigurationError, match="detour_limit"):
+            StackController("paccet", detour_limit=bad)
+        with pytest.raises(ConfigurationError, match="detour_limit"):
+            build_navigator("paccet", PR2, room(), GOAL, SocialContext(), detour_limit=bad)
+
+
+def test_a_detour_limit_needs_the_plan_it_is_compared_with():
+    nav = build_navigator("paccet", PR2, room(), GOAL, SocialContext())
+    with pytest.raises(ValueError, match="detour_layer"):
+        Navigator(PR2, nav.local_planner, nav.costmap, GOAL, detour_limit=0.5)
+    for build in (
+        lambda: StackController("traditional", detour_limit=0.5),
+        lambda: build_navigator("traditional", PR2, room(), GOAL, SocialContext(), detour_limit=1),
+    ):
+        with pytest.raises(ConfigurationError, match="no social global plan"):
+            build()
+    # A preset derived without the social global plan keeps working: the limit has no plan.
+    static = replace(PRESETS.get("paccet"), social_global_path=False)
+    assert static.detour_limit == DETOUR_LIMIT
+
+
+def test_the_builders_switch_the_limit_off_and_keep_the_preset_otherwise():
+    assert build_navigator("paccet", PR2, room(), GOAL, SocialContext()).detour_limit == 0.5
+    off = build_navigator("paccet", PR2, room(), GOAL, SocialContext(), detour_limit=0.0)
+    assert off.detour_limit == 0.0
+    long_way = off._compute_plan(START, GOAL, crossing(), True)
+    assert long_way.path is not None and path_length(long_way.path) > 12.0
+    assert StackController("paccet", detour_limit=0.0).detour_limit == 0.0
+    assert PRESETS.get("paccet").detour_limit == DETOUR_LIMIT  # the registry is untouched
 
 
 def test_the_pioneer_no_longer_turns_round_in_generated_crowdnav():

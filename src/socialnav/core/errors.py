@@ -11,3 +11,13 @@ class ConfigurationError(SocialNavError, ValueError):
 
 class InvalidInputError(SocialNavError, ValueError):
     """Numeric input is unusable: NaN, infinite, wrong shape or impossible geometry."""
+
+
+def is_non_negative_number(value: object) -> bool:
+    """Whether ``value`` is a finite real number >= 0 (an ``int`` or ``float``, not a ``bool``
+    or a string): the check of the planner's fractions and margins at configuration time."""
+    import math
+
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        return False
+    return math.isfinite(value) and value >= 0

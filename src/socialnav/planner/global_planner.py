@@ -243,8 +243,11 @@ def path_cost(
 
 
 def path_length(path: ArrayLike) -> float:
-    """Length (m) of the polyline ``path (P, 2)`` (0 for fewer than two points)."""
-    xy = np.asarray(path, dtype=float).reshape(-1, 2)
+    """Length (m) of the polyline ``path (P, 2)`` (0 for fewer than two points). Raises
+    ``InvalidInputError`` on another shape (poses ``(P, 3)`` included) or a non-finite point."""
+    xy = as_points(path, "path")
+    if xy.ndim != 2:
+        raise InvalidInputError(f"path must have shape (P, 2), got {xy.shape}")
     return float(np.hypot(*np.diff(xy, axis=0).T).sum())
 
 

@@ -46,7 +46,8 @@ Decisions:
 - Detour limit (``detour_limit``, default 0: off; with ``detour_layer``): walkers are
   temporary obstacles, so a plan that goes the long way round (or back) to keep clear of
   their personal space is not worth following. Each plan is also searched on the costmap
-  with ``detour_layer`` alone (e.g. standing people and o-spaces, no walkers), and when the
+  with ``detour_layer`` alone (``paccet``: people slower than 0.3 m/s and the o-spaces, no
+  walkers; ``presets.standing_space_layer``), and when the
   social plan is more than ``1 + detour_limit`` times as long, that plan is followed instead;
   the local planner, evasion and timed passing deal with the walkers. Generated crowdnav
   (five people crossing a 4 m circle): the plan around their forecast lanes was 2–2.5 times
@@ -78,6 +79,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy.ndimage import distance_transform_edt
 
+from socialnav.core.errors import is_non_negative_number
 from socialnav.core.geometry import FloatArray, wrap_angle
 from socialnav.core.robot import RobotModel
 from socialnav.core.scene import SocialContext
@@ -184,10 +186,14 @@ class Navigator:
                 raise ValueError(f"{name} must be positive")
         if not (np.isfinite(goal_tolerance) and goal_tolerance >= 0):
             raise ValueError("goal_tolerance must be finite and >= 0")
-        if not (np.isfinite(replan_hysteresis) and replan_hysteresis >= 0):
-            raise ValueError(f"replan_hysteresis must be finite and >= 0, got {replan_hysteresis}")
-        if not (np.isfinite(detour_limit) and detour_limit >= 0):
-            raise ValueError(f"detour_limit must be finite and >= 0, got {detour_limit}")
+        for name, value in (
+            ("replan_hysteresis", replan_hysteresis),
+            ("detour_limit", detour_limit),
+        ):
+            if not is_non_negative_number(value):
+                raise ValueError(f"{name} must be a finite number >= 0, got {value!r}")
+        if detour_limit > 0 and detour_layer is None:
+            raise ValueError("detour_limit needs a detour_layer (the plan it is compared with)")
         self.meeting_layer = meeting_layer
         self.replan_hysteresis = float(replan_hysteresis)
         self.detour_layer = detour_layer

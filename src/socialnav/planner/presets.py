@@ -44,13 +44,13 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any, Literal
 
 import numpy as np
 from numpy.typing import NDArray
 
-from socialnav.core.errors import ConfigurationError
+from socialnav.core.errors import ConfigurationError, is_non_negative_number
 from socialnav.core.geometry import FloatArray
 from socialnav.core.registry import Registry
 from socialnav.core.robot import RobotModel
@@ -111,9 +111,19 @@ class PlannerPreset:
     #: ``Navigator.replan_hysteresis``: keep the plan unless a new one is this much cheaper
     replan_hysteresis: float = 0.0
     #: ``Navigator.detour_limit`` with ``social_global_path``: a social plan more than this
-    #: fraction longer than the plan around standing people only (:func:`standing_space_layer`)
-    #: gives way to that plan (``DETOUR_LIMIT``)
+    #: fraction longer than the plan around standing people only (:func:`standing_space_layer`:
+    #: people slower than ``MEETING_LAYER["min_speed"]``, 0.3 m/s, and the o-spaces) gives way
+    #: to that plan (``DETOUR_LIMIT``); 0: off (and without ``social_global_path``)
     detour_limit: float = 0.0
+
+    def __post_init__(self) -> None:
+        for name in ("replan_hysteresis", "detour_limit"):
+            value = getattr(self, name)
+            if not is_non_negative_number(value):
+                raise ConfigurationError(
+                    f"planner preset {self.description!r}: {name} must be a finite number >= 0,"
+                    f" got {value!r}"
+                )
 
 
 PRESETS: Registry[PlannerPreset] = Registry("planner preset")
@@ -313,7 +323,10 @@ RECOMMENDED_HYSTERESIS = 0.3
 #: recorded pedestrians do not hold for 6 s), hence ``passing_max_people`` within 10 m.
 PASSING_DISTANCE = 1.25
 #: ``paccet``'s detour limit (``Navigator.detour_limit``): a social plan more than 1.5 times as
-#: long as the plan around standing people only is replaced by that plan. Generated crowdnav
+#: long as the plan around standing people only (slower than 0.3 m/s, ``MEETING_LAYER``'s
+#: ``min_speed``; people slowing down to their goals count as standing) is replaced by that
+#: plan. Switched off per run with ``StackController("paccet", detour_limit=0.0)`` or
+#: ``build_navigator(..., detour_limit=0.0)``. Generated crowdnav
 #: (five people crossing toward the centre of the robot's run): the plan around their forecast
 #: lanes was 2–2.5 times as long, and the Pioneer turned round to follow it; hallway plans
 #: are mostly within 1.25 times (at most about 1.5). Development seeds 0–59 of hallway,
@@ -622,6 +635,7 @@ def build_navigator(
     global_search: GlobalSearch = "scipy",
     replan_mode: ReplanMode = "inline",
     replan_delay: int = 2,
+    detour_limit: float | None = None,
 ) -> Navigator:
     """The stack of preset ``name``: global plan, local planner with recoveries, social goal.
 
@@ -631,11 +645,18 @@ def build_navigator(
     ``default_tolerance`` (m, navfn: how far a blocked goal may move to a reachable point) and
     ``planner_frequency`` (Hz, move_base: periodic global replanning); ``global_search``,
     ``replan_mode`` and ``replan_delay`` as in :class:`Navigator` (rate-separated replanning;
-    the defaults replan inline with SciPy's Dijkstra). The objective set follows
+    the defaults replan inline with SciPy's Dijkstra); ``detour_limit`` as in
+    :class:`Navigator` (``None``: the preset's; 0 switches it off). The objective set follows
     the people in view every cycle (:class:`SceneObjectives`); ``social`` only seeds it.
-    Raises ``ConfigurationError`` on an unknown preset or a non-positive ``planner_frequency``.
+    Raises ``ConfigurationError`` on an unknown preset, a non-positive ``planner_frequency``
+    or a ``detour_limit`` that is not a finite number >= 0 or is positive for a preset without
+    a social global plan.
     """
     preset = PRESETS.get(name)
+    if detour_limit is not None:
+        if detour_limit and not preset.social_global_path:
+            raise ConfigurationError(f"preset {name!r} has no social global plan to limit")
+        preset = replace(preset, detour_limit=detour_limit)  # checked by the preset
     if not (np.isfinite(planner_frequency) and planner_frequency > 0):
         raise ConfigurationError(f"planner_frequency must be positive, got {planner_frequency}")
     local = RecoveringPlanner(
@@ -680,7 +701,7 @@ def build_navigator(
         meeting_layer=meeting,
         replan_hysteresis=preset.replan_hysteresis,
         detour_layer=standing_space_layer if preset.social_global_path else None,
-        detour_limit=preset.detour_limit,
+        detour_limit=preset.detour_limit if preset.social_global_path else 0.0,
     )
 
 

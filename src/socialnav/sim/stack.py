@@ -36,6 +36,8 @@ class StackController:
     ``recovery``: the control loop's progress, waiting, evasion and recovery parameters — a
     :class:`RecoveryParams` or a mapping of field overrides of the preset's (``None``: the
     preset's); e.g. ``{"evasion_ttc": 0}`` switches evasion off.
+    ``detour_limit``: the navigator's detour limit on the social global plan (``None``: the
+    preset's, :data:`~socialnav.planner.presets.DETOUR_LIMIT` in ``paccet``; 0 switches it off).
     ``global_search``, ``replan_mode``, ``replan_delay``: the navigator's rate-separated
     replanning (:class:`~socialnav.planner.navigator.Navigator`). The defaults are the compiled
     search and ``"deferred"``: the plan requested at step k is applied at step k + 2 (on a
@@ -54,8 +56,14 @@ class StackController:
         global_search: str = "compiled",
         replan_mode: str = "deferred",
         replan_delay: int = 2,
+        detour_limit: float | None = None,
     ) -> None:
         self.preset_spec = PRESETS.get(preset)
+        if detour_limit is not None:
+            dataclasses.replace(self.preset_spec, detour_limit=detour_limit)  # its own check
+            if detour_limit and not self.preset_spec.social_global_path:
+                raise ConfigurationError(f"preset {preset!r} has no social global plan to limit")
+        self.detour_limit = detour_limit
         self.preset = preset
         self.record = record
         self.params = _planner_params(self.preset_spec.params, params)
@@ -101,6 +109,7 @@ class StackController:
             record=self.record,
             params=self.params,
             recovery=self.recovery,
+            detour_limit=self.detour_limit,
             **self.replan,  # type: ignore[arg-type]
         )
 
