@@ -153,3 +153,34 @@ def test_the_pioneer_no_longer_turns_round_in_generated_crowdnav():
     failed = [c.name for c in measure_episode(record).conditions if c.required and not c.passed]
     assert failed == []
     assert len(poses) * record.dt < 21.0
+
+
+@pytest.fixture
+def registries():
+    """The preset and controller registries, restored after the test."""
+    from socialnav.sim.controller import CONTROLLERS
+
+    saved = [(r, dict(r._items)) for r in (PRESETS, CONTROLLERS)]
+    yield
+    for registry, items in saved:
+        registry._items.clear()
+        registry._items.update(items)
+
+
+def test_a_preset_derived_at_run_time_runs_as_a_planner(registries):
+    """A newcomer's variant (paccet without the limit) runs by name once registered, and a
+    name taken by another preset or controller is refused."""
+    from socialnav.sim.generate import generate
+    from socialnav.sim.runner import run_episode
+    from socialnav.sim.stack import register_preset
+
+    name = "paccet_no_detour_test"
+    variant = replace(PRESETS.get("paccet"), detour_limit=0.0)
+    register_preset(name, variant, compared=False)
+    register_preset(name, variant, compared=False)  # the same object again: a no-op
+    record = run_episode(generate("crowdnav", 0), name, "pioneer", seed=0).record
+    assert len(record.robot_poses) * record.dt > 24.0  # the long way round, as before the limit
+    with pytest.raises(ConfigurationError, match="already registered"):
+        register_preset(name, replace(variant, detour_limit=0.2))
+    with pytest.raises(ConfigurationError, match="already registered"):
+        register_preset("hl", variant)

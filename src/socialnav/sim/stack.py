@@ -19,7 +19,12 @@ from socialnav.core.geometry import FloatArray
 from socialnav.core.robot import RobotModel
 from socialnav.core.scene import SocialContext
 from socialnav.planner.local_planner import LocalPlannerParams, PlannerResult, PlannerStatus
-from socialnav.planner.presets import PRESETS, build_navigator, social_goal_options
+from socialnav.planner.presets import (
+    PRESETS,
+    PlannerPreset,
+    build_navigator,
+    social_goal_options,
+)
 from socialnav.planner.recovery import RecoveryParams
 from socialnav.sim.controller import CONTROLLERS, register_controller
 
@@ -141,13 +146,22 @@ def _overrides(base: Any, params: Any, what: str) -> Any:
     return dataclasses.replace(base, **params)
 
 
-for _name in PRESETS.names():
-    if _name not in CONTROLLERS:
-        _preset = PRESETS.get(_name)
+def register_preset(name: str, preset: PlannerPreset, *, compared: bool = True) -> None:
+    """Add ``preset`` to :data:`~socialnav.planner.presets.PRESETS` as ``name`` and its stack
+    (:class:`StackController`) as a controller of the same name, so that ``run_episode``,
+    ``socialnav run --planner NAME`` and (unless ``compared=False``) ``socialnav compare``
+    run it; e.g. ``register_preset("paccet_no_detour", dataclasses.replace(
+    PRESETS.get("paccet"), detour_limit=0.0))``. Raises ``ConfigurationError`` if ``name`` is
+    taken by another preset or controller."""
+    if name in CONTROLLERS and name not in PRESETS:
+        raise ConfigurationError(f"controller {name!r} is already registered")
+    PRESETS.add(name, preset)
+    if name not in CONTROLLERS:
+        factory = partial(StackController, name)
         register_controller(
-            _name,
-            partial(StackController, _name),
-            _preset.description,
-            order=_preset.order,
-            kind="stack",
+            name, factory, preset.description, order=preset.order, compared=compared, kind="stack"
         )
+
+
+for _name in PRESETS.names():
+    register_preset(_name, PRESETS.get(_name))
