@@ -1,5 +1,7 @@
 """Exception types: exceptions belong to configuration time; the hot path returns statuses."""
 
+import math
+
 
 class SocialNavError(Exception):
     """Base class of every error socialnav raises on purpose."""
@@ -16,8 +18,6 @@ class InvalidInputError(SocialNavError, ValueError):
 def is_non_negative_number(value: object) -> bool:
     """Whether ``value`` is a finite real number >= 0 (an ``int`` or ``float``, not a ``bool``
     or a string): the check of the planner's fractions and margins at configuration time."""
-    import math
-
     if isinstance(value, bool) or not isinstance(value, int | float):
         return False
     return math.isfinite(value) and value >= 0

@@ -47,8 +47,8 @@ Decisions:
   temporary obstacles, so a plan that goes the long way round (or back) to keep clear of
   their personal space is not worth following. Each plan is also searched on the costmap
   with ``detour_layer`` alone (``paccet``: people slower than 0.3 m/s and the o-spaces, no
-  walkers; ``presets.standing_space_layer``), and when the
-  social plan is more than ``1 + detour_limit`` times as long, that plan is followed instead;
+  walkers; ``presets.standing_space_layer``), and when the social plan is more than
+  ``1 + detour_limit`` times as long, that plan is followed instead;
   the local planner, evasion and timed passing deal with the walkers. Generated crowdnav
   (five people crossing a 4 m circle): the plan around their forecast lanes was 2–2.5 times
   as long, and the robot turned round to follow it; in generated hallways the social plan is
@@ -528,8 +528,9 @@ class Navigator:
             search=self.global_search,
         )
         if self.detour_limit > 0.0 and self.detour_layer is not None and on_map.people:
-            plain = self.detour_layer(static_people, on_map)
-            plan, costmap = self._limit_detour(plan, costmap, plain, pose, target)
+            plan, costmap = self._limit_detour(
+                plan, costmap, self.detour_layer, static_people, on_map, pose, target
+            )
         if plan.status != "OK" and costmap is not self.costmap and fresh:
             # Blocked only by people: follow the static plan; the local planner waits.
             # (With a plan to this target already, it is kept below.)
@@ -562,22 +563,27 @@ class Navigator:
         self,
         plan: GlobalPlan,
         costmap: Costmap,
-        plain: Costmap,
+        layer: CostmapLayer,
+        static_people: Costmap,
+        on_map: SocialContext,
         pose: FloatArray,
         target: FloatArray,
     ) -> tuple[GlobalPlan, Costmap]:
-        """``(plan, costmap)``, or the plan on ``plain`` (the costmap with ``detour_layer``
+        """``(plan, costmap)``, or the plan on ``plain`` (``static_people`` with ``layer``
         alone) and ``plain`` when ``plan`` is more than ``1 + detour_limit`` times as long as
         that one (module docstring)."""
-        if plan.path is None or np.array_equal(plain.costs, costmap.costs):
-            return plan, costmap  # nothing to judge, or no walker left out
+        if plan.path is None:
+            return plan, costmap
         tolerance = 0.5 * self.robot.circumscribed_radius
         # No plan is shorter than the straight line to within the tolerance of the target: a
-        # plan within the limit of that needs no second search (most plans, at no cost).
+        # plan within the limit of that needs neither the layer nor a second search (most).
         floor = max(float(np.hypot(*(target[:2] - pose[:2]))) - tolerance, 0.0)
         length = path_length(plan.path)
         if length <= (1.0 + self.detour_limit) * floor:
             return plan, costmap
+        plain = layer(static_people, on_map)
+        if np.array_equal(plain.costs, costmap.costs):
+            return plan, costmap  # no walker left out
         short = plan_path(
             plain, pose[:2], target[:2], tolerance=tolerance, search=self.global_search
         )

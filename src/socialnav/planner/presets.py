@@ -621,6 +621,18 @@ def build_local_planner(
     return LocalPlanner(robot, objectives, selection, p, objective_set=scene)
 
 
+def preset_with(name: str, detour_limit: float | None = None) -> PlannerPreset:
+    """Preset ``name`` with a per-run ``detour_limit`` (``None``: its own). Raises
+    ``ConfigurationError`` for an unknown name, a limit that is not a finite number >= 0, or
+    a positive one for a preset without a social global plan."""
+    preset = PRESETS.get(name)
+    if detour_limit is None:
+        return preset
+    if detour_limit and not preset.social_global_path:
+        raise ConfigurationError(f"preset {name!r} has no social global plan to limit")
+    return replace(preset, detour_limit=detour_limit)  # checked by the preset
+
+
 def build_navigator(
     name: str,
     robot: RobotModel,
@@ -652,11 +664,7 @@ def build_navigator(
     or a ``detour_limit`` that is not a finite number >= 0 or is positive for a preset without
     a social global plan.
     """
-    preset = PRESETS.get(name)
-    if detour_limit is not None:
-        if detour_limit and not preset.social_global_path:
-            raise ConfigurationError(f"preset {name!r} has no social global plan to limit")
-        preset = replace(preset, detour_limit=detour_limit)  # checked by the preset
+    preset = preset_with(name, detour_limit)
     if not (np.isfinite(planner_frequency) and planner_frequency > 0):
         raise ConfigurationError(f"planner_frequency must be positive, got {planner_frequency}")
     local = RecoveringPlanner(

@@ -23,6 +23,7 @@ from socialnav.planner.presets import (
     PRESETS,
     PlannerPreset,
     build_navigator,
+    preset_with,
     social_goal_options,
 )
 from socialnav.planner.recovery import RecoveryParams
@@ -63,11 +64,8 @@ class StackController:
         replan_delay: int = 2,
         detour_limit: float | None = None,
     ) -> None:
-        self.preset_spec = PRESETS.get(preset)
-        if detour_limit is not None:
-            dataclasses.replace(self.preset_spec, detour_limit=detour_limit)  # its own check
-            if detour_limit and not self.preset_spec.social_global_path:
-                raise ConfigurationError(f"preset {preset!r} has no social global plan to limit")
+        self.preset_spec = preset_with(preset)
+        preset_with(preset, detour_limit)  # a bad override fails here, not at reset
         self.detour_limit = detour_limit
         self.preset = preset
         self.record = record
