@@ -344,11 +344,36 @@ PASSING_DISTANCE = 1.25
 #: paths but take the robot nearer people; 0.5 has the most crowd successes and the fewest
 #: active contacts, at time ratios 0.01–0.12 above 0.15's.
 DETOUR_LIMIT = 0.5
+#: ``paccet``'s no-fleeing rule and rotation shim after an evasion
+#: (``RecoveryParams.evasion_max_retreat``, ``rotation_shim_threshold``). In generated
+#: hallways where the walkers leave less than the personal distance, the Pioneer gave way by
+#: driving ahead of them down the corridor, or was turned away from its plan by an evasion and
+#: then driven that way by the local planner (its interpersonal objective rewards the distance),
+#: until the walkers stopped at the corridor's end and blocked its way back (hallway dev seed
+#: 155 after 7 m of it; 14 of the Pioneer's 23 dev failures were such timeouts). Generated dev
+#: seeds, passes of paccet (Pioneer / PR2) and collision runs: hallway 0–199 (400 runs),
+#: crowdnav + crowdnav_visible + mixed 0–59 (360 runs); recorded crowds dev seeds 0–89 (360
+#: episodes: successes, active- and passive-contact episodes, time within 1.2 m, path ratio):
+#: before: hallway 177 / 187, 7; others 356, 2; crowds 351, 4, 108, 6.38 s, 1.33.
+#: no fleeing (0.5 m), ungated: hallway 180 / 187, 6; others 355, 3; crowds 352, 6, 119.
+#: + shim at 90°, any drive, any time: hallway 186 / 187, 7; others 357, but time on the scenes
+#: both pass +1–7 % there and +1–25 % in the families without walkers (queue Pioneer +25 %:
+#: it turned to plans that bend round the queue, then crawled backward).
+#: + shim after an evasion only: hallway 183 / 187, 7; others 355 (crowdnav PR2 34 turned to a
+#: plan behind it and timed out) → differential drive only: others 356, 2; crowds 354, 4, 121.
+#: + no fleeing gated as timed passing (at most 3 people within 10 m; kept): hallway
+#: 183 / 187, 6; others 356, 2, time ratio to hl −0.00 to −0.02; crowds 354, 3, 112, 6.52 s,
+#: 1.32. Shim at 45° (Nav2's default) with ungated no fleeing: hallway 186 / 186; no fleeing at
+#: 1.0 m: 184 / 185; the encounter's retreat reference of timed passing taken as its best
+#: point so far: 179 / 185.
+MAX_RETREAT = 0.5
 RECOMMENDED_RECOVERY = RecoveryParams(
     evasion_personal_distance=1.2,
     evasion_personal_time=6.0,
     evasion_hold_step=1.0,
     passing_distance=PASSING_DISTANCE,
+    evasion_max_retreat=MAX_RETREAT,
+    rotation_shim_threshold=math.pi / 2,
 )
 
 

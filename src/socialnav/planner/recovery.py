@@ -45,6 +45,24 @@ Behaviour (parameters in :class:`RecoveryParams`, ROS/Nav2 names, budgets in sec
   (:func:`~socialnav.planner.passing.follow_plan`). A sequence that ends more than
   ``passing_retreat`` m of plan farther from the goal than the encounter began is refused
   (keeping the distance by fleeing is not the robot's job), and giving way takes over.
+  (4) *no fleeing* (``evasion_max_retreat`` > 0), under timed passing's gate on the number
+  of people near: giving way's moves that end more than ``evasion_max_retreat`` m farther
+  from the goal than the robot is now are left out while another move keeps clear of contact
+  over the encounter. A walker who takes the whole lane can be let past beside a wall, at
+  less than the personal distance; driving ahead of them keeps the distance only until the
+  corridor ends, where they stop and block the way back. In a crowd, whose constant-velocity
+  forecasts do not hold, moving away stays allowed.
+- **Rotation shim after an evasion** (``rotation_shim_threshold`` > 0, differential drive
+  only; Nav2's ``RotationShimController``, ``angular_dist_threshold`` and
+  ``forward_sampling_distance`` = ``rotation_shim_lookahead``): when an evasion has ended with
+  the robot facing more than the threshold away from the plan (the direction to the plan's
+  point ``rotation_shim_lookahead`` m on from its nearest vertex), it turns in place toward
+  the plan, down to ``rotate_tolerance``, before the local planner takes over again (status
+  ``OK``). A differential-drive robot cannot back up at speed, and a local planner left facing
+  away keeps driving that way while walkers follow (its interpersonal objective rewards the
+  distance). Not within ``rotation_shim_goal_distance`` m of the goal (the goal handling turns
+  the robot there), not when the turn is unsafe (checked as the recoveries' steps are), and
+  only once per evasion.
 - **Waiting** (status ``WAITING``, zero command; the navigator decelerates it within the
   acceleration limits and replans): when no trajectory is legal, or the legal ones make no
   progress, and a person blocks: within ``person_blocking_distance`` m (footprint circle to
@@ -140,6 +158,10 @@ class RecoveryParams:
     passing_retreat: float = 0.5
     passing_max_people: int = 3
     passing_count_range: float = 10.0
+    evasion_max_retreat: float = 0.0  # off; paccet 0.5
+    rotation_shim_threshold: float = 0.0  # off; paccet pi/2
+    rotation_shim_lookahead: float = 0.5
+    rotation_shim_goal_distance: float = 1.0
 
     def __post_init__(self) -> None:
         for f in fields(self):
@@ -217,6 +239,8 @@ class RecoveringPlanner:
         self._pass_ref = math.nan  # plan still to go when the encounter began (m)
         self._pass_plan: PassingPlan | None = None
         self._pass_t0 = 0.0
+        self._shim_armed = False  # an evasion ended: the rotation shim may run once
+        self._shim_turning = False
 
     def _out(
         self, cmd: FloatArray, status: PlannerStatus, record: EvaluationRecord | None, message: str
@@ -257,7 +281,12 @@ class RecoveringPlanner:
         self._blocked = not legal
         evade = self._evasion(ctx, result)
         if evade is not None:
+            self._shim_armed, self._shim_turning = True, False
             return evade
+        if legal and self._shim_armed:
+            turn = self._rotation_shim(ctx, result)
+            if turn is not None:
+                return turn
         stalled = now - self._anchor_time
         if legal and stalled <= p.movement_time_allowance:
             self._recoveries = 0
@@ -289,6 +318,37 @@ class RecoveringPlanner:
             cmd = np.zeros(3)
         why = f"recovery after: {result.message or 'no progress'}"
         return self._out(cmd, PlannerStatus.RECOVERING, result.record, why)
+
+    def _rotation_shim(self, ctx: PlanningContext, result: PlannerResult) -> PlannerResult | None:
+        """An in-place turn toward the plan after an evasion (module docstring), or None."""
+        p, r = self.params, self.robot
+        path = np.asarray(ctx.global_path, dtype=float).reshape(-1, 2)
+        to_goal = float(np.hypot(*(ctx.pose[:2] - np.asarray(ctx.goal, dtype=float)[:2])))
+        if p.rotation_shim_threshold <= 0 or r.holonomic:
+            return None
+        if path.shape[0] < 2 or to_goal < p.rotation_shim_goal_distance:
+            self._shim_turning = False
+            return None
+        dense = densify_path(path, 0.05)
+        i = int(kernels.nearest_vertex(ctx.pose[None, :2], dense)[0])
+        ahead = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(dense[i:], axis=0).T))])
+        j = i + min(int(np.searchsorted(ahead, p.rotation_shim_lookahead)), ahead.size - 1)
+        dx, dy = dense[j] - ctx.pose[:2]
+        err = float(wrap_angle(math.atan2(dy, dx) - ctx.pose[2]))
+        if math.hypot(dx, dy) < 0.2:  # at the plan's end
+            self._shim_turning = False
+            return None
+        if abs(err) <= (p.rotate_tolerance if self._shim_turning else p.rotation_shim_threshold):
+            self._shim_armed = self._shim_turning = False
+            return None
+        w = math.copysign(min(r.max_vel_theta, max(r.min_in_place_vel_theta, abs(err))), err)
+        twist = np.array([0.0, 0.0, w])
+        if not self._safe(ctx, twist, min(abs(err) / abs(w), 1.0)):
+            self._shim_turning = False  # armed still: the turn may become safe
+            return None
+        self._shim_turning = True
+        why = f"rotating to the plan ({err:+.2f} rad off) after evading"
+        return self._out(twist, PlannerStatus.OK, result.record, why)
 
     def _blocking_person(self, ctx: PlanningContext) -> tuple[int, float] | None:
         """``(index, gap m)`` of the person blocking the robot (module docstring), or None."""
@@ -326,11 +386,8 @@ class RecoveringPlanner:
             return None
         # timed passing plans on constant-velocity forecasts of everyone near: only where they
         # are few, and before anyone is inside the distance it keeps (module docstring)
-        passing = (
-            p.passing_distance > 0
-            and int((centre <= p.passing_count_range + radii).sum()) <= p.passing_max_people
-            and bool((centre >= p.passing_distance).all())
-        )
+        few = int((centre <= p.passing_count_range + radii).sum()) <= p.passing_max_people
+        passing = p.passing_distance > 0 and few and bool((centre >= p.passing_distance).all())
         pos, vel, radii = pos[sel], vel[sel], radii[sel]
         own = body_to_world_velocity(ctx.pose, result.cmd)
         ttc = time_to_collision(ctx.pose[:2], own, pos, vel, radii + r.circumscribed_radius)
@@ -354,7 +411,7 @@ class RecoveringPlanner:
             if passed is not None:
                 return passed
         if p.evasion_hold_step > 0:
-            return self._give_way(ctx, result, sel, trigger, ttc)
+            return self._give_way(ctx, result, sel, trigger, ttc, few)
         horizon = p.evasion_horizon
         if float(ttc.min()) >= p.evasion_ttc:
             horizon = max(horizon, p.evasion_personal_time)
@@ -444,10 +501,12 @@ class RecoveringPlanner:
         sel: np.ndarray,
         trigger: np.ndarray,
         ttc: FloatArray,
+        few: bool,
     ) -> PlannerResult | None:
         """Give way to the walkers ``sel`` (``trigger`` among them set it off): move out of
         their lanes and hold there, judged over the whole encounter against everyone
-        (standing people included: the lane beside a walker may be beside a bystander too)."""
+        (standing people included: the lane beside a walker may be beside a bystander too).
+        ``few``: at most ``passing_max_people`` people are near (the no-fleeing rule's gate)."""
         p, r = self.params, self.robot
         pos, vel = ctx.social.positions(), ctx.social.velocities()
         radii = ctx.social.radii()
@@ -472,6 +531,12 @@ class RecoveringPlanner:
             return None
         gaps = np.where(legal, gaps, -np.inf)
         progress = -np.hypot(*(trajs.end_poses[:, :2] - ctx.goal[:2]).T)
+        if p.evasion_max_retreat > 0 and few:
+            # no fleeing (module docstring), unless only fleeing stays clear of contact
+            here = float(np.hypot(*(ctx.pose[:2] - ctx.goal[:2])))
+            flees = -progress - here > p.evasion_max_retreat
+            if ((gaps > 0) & ~flees).any():
+                gaps = np.where(flees, -np.inf, gaps)
         tied = gaps >= float(gaps.max()) - 0.05
         k = int(np.argmax(np.where(tied, progress, -np.inf)))
         if own[k] or gaps[k] <= float(gaps[own].max()) + 1e-3:

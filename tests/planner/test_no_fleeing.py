@@ -1,0 +1,113 @@
+"""The control loop does not flee from walkers (``RecoveryParams.evasion_max_retreat``) and turns
+back to its plan after an evasion (``rotation_shim_threshold``): analytic cycles of
+:class:`~socialnav.planner.recovery.RecoveringPlanner` and the generated hallway where the
+Pioneer used to drive ahead of a walking pair down the corridor."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+import pytest
+from _planner_helpers import context, world
+
+from socialnav.core.errors import ConfigurationError
+from socialnav.core.robot import PIONEER, PR2, RobotModel
+from socialnav.core.scene import Person, SocialContext
+from socialnav.planner.local_planner import PlannerStatus
+from socialnav.planner.presets import RECOMMENDED_RECOVERY, build_local_planner
+from socialnav.planner.recovery import RecoveringPlanner, RecoveryParams
+
+GOAL = np.array([11.0, 2.0, 0.0])
+PATH = np.column_stack([np.linspace(0.0, 11.0, 111), np.full(111, 2.0)])
+
+
+def _loop(robot: RobotModel, params: RecoveryParams) -> RecoveringPlanner:
+    return RecoveringPlanner(build_local_planner("paccet", robot, SocialContext()), params)
+
+
+def _cycle(planner: RecoveringPlanner, robot: RobotModel, pose, people=(), time=0.0):
+    cm, _ = world(12.0, 4.0, [], robot)
+    social = SocialContext(tuple(people))
+    return planner.plan(
+        context(cm, robot, pose, PATH, GOAL, social=social, time=time, predict_people=True)
+    )
+
+
+def _walker(x: float) -> Person:
+    """Walking head-on at 1.5 m/s along the robot's line."""
+    return Person(1, (x, 2.0), (-1.5, 0.0), np.pi)
+
+
+def test_after_an_evasion_a_pioneer_facing_away_from_its_plan_turns_back_in_place():
+    planner = _loop(PIONEER, RECOMMENDED_RECOVERY)
+    first = _cycle(planner, PIONEER, (3.0, 2.0, 0.0), [_walker(6.0)])
+    assert first.status == PlannerStatus.EVADING
+    # The walker has gone; the evasion left the robot facing 2.8 rad away from the plan (+x).
+    out = _cycle(planner, PIONEER, (3.0, 2.0, 2.8), time=0.1)
+    assert out.status == PlannerStatus.OK and "rotating to the plan" in out.message
+    assert out.cmd[0] == 0.0 and out.cmd[1] == 0.0 and out.cmd[2] < 0.0  # the short way round
+    # It turns until within rotate_tolerance, then the local planner drives on.
+    assert "rotating" in _cycle(planner, PIONEER, (3.0, 2.0, 0.5), time=0.2).message
+    done = _cycle(planner, PIONEER, (3.0, 2.0, 0.1), time=0.3)
+    assert "rotating" not in done.message
+    # Once per evasion: facing away again later, without one, the local planner decides.
+    assert "rotating" not in _cycle(planner, PIONEER, (3.0, 2.0, 2.8), time=0.4).message
+
+
+def test_no_rotation_shim_without_an_evasion_for_a_holonomic_base_or_when_off():
+    fresh = _loop(PIONEER, RECOMMENDED_RECOVERY)
+    assert "rotating" not in _cycle(fresh, PIONEER, (3.0, 2.0, 2.8)).message
+    for robot, params in (
+        (PR2, RECOMMENDED_RECOVERY),
+        (PIONEER, replace(RECOMMENDED_RECOVERY, rotation_shim_threshold=0.0)),
+    ):
+        planner = _loop(robot, params)
+        assert _cycle(planner, robot, (3.0, 2.0, 0.0), [_walker(6.0)]).status == "EVADING"
+        assert "rotating" not in _cycle(planner, robot, (3.0, 2.0, 2.8), time=0.1).message
+
+
+def test_no_rotation_shim_near_the_goal():
+    planner = _loop(PIONEER, RECOMMENDED_RECOVERY)
+    assert _cycle(planner, PIONEER, (3.0, 2.0, 0.0), [_walker(6.0)]).status == "EVADING"
+    assert "rotating" not in _cycle(planner, PIONEER, (10.3, 2.0, 2.8), time=0.1).message
+
+
+@pytest.mark.parametrize(
+    "field", ["evasion_max_retreat", "rotation_shim_threshold", "rotation_shim_lookahead"]
+)
+@pytest.mark.parametrize("bad", [-0.1, float("nan"), float("inf")])
+def test_the_new_parameters_are_checked(field, bad):
+    with pytest.raises(ConfigurationError, match=field):
+        RecoveryParams(**{field: bad})
+
+
+def _hallway_155(recovery=None):
+    from socialnav.metrics.success import success_conditions
+    from socialnav.sim.generate import generate
+    from socialnav.sim.runner import run_episode
+    from socialnav.sim.stack import StackController
+
+    controller = StackController("paccet", recovery=recovery)
+    record = run_episode(generate("hallway", 155), controller, "pioneer", seed=155).record
+    failed = [c.name for c in success_conditions(record) if c.required and not c.passed]
+    return record, failed
+
+
+def test_bug_pioneer_drove_ahead_of_a_walking_pair_to_the_corridors_end():
+    """Generated hallway dev seed 155, Pioneer: a pair walks the 2.66 m corridor toward the
+    robot's end at 0.6 m/s, leaving 0.92 m beside them. Giving way drove the robot 3 m back
+    ahead of them, the local planner 3 m more facing away from the goal; the pair stopped at
+    the corridor's end, beside the robot, which could no longer turn and timed out. Now it
+    lets them pass and arrives."""
+    record, failed = _hallway_155()
+    assert failed == []
+    start_x = float(record.robot_poses[0, 0])
+    assert float(record.robot_poses[:, 0].min()) > start_x - 1.0
+
+
+def test_the_same_hallway_times_out_with_both_rules_switched_off():
+    off = {"evasion_max_retreat": 0.0, "rotation_shim_threshold": 0.0}
+    record, failed = _hallway_155(off)
+    assert "reached_goal" in failed
+    assert float(record.robot_poses[:, 0].min()) < float(record.robot_poses[0, 0]) - 1.0
