@@ -26,8 +26,8 @@ def _loop(robot: RobotModel, params: RecoveryParams) -> RecoveringPlanner:
     return RecoveringPlanner(build_local_planner("paccet", robot, SocialContext()), params)
 
 
-def _cycle(planner: RecoveringPlanner, robot: RobotModel, pose, people=(), time=0.0):
-    cm, _ = world(12.0, 4.0, [], robot)
+def _cycle(planner: RecoveringPlanner, robot: RobotModel, pose, people=(), time=0.0, walls=()):
+    cm, _ = world(12.0, 4.0, list(walls), robot)
     social = SocialContext(tuple(people))
     return planner.plan(
         context(cm, robot, pose, PATH, GOAL, social=social, time=time, predict_people=True)
@@ -45,7 +45,7 @@ def test_after_an_evasion_a_pioneer_facing_away_from_its_plan_turns_back_in_plac
     assert first.status == PlannerStatus.EVADING
     # The walker has gone; the evasion left the robot facing 2.8 rad away from the plan (+x).
     out = _cycle(planner, PIONEER, (3.0, 2.0, 2.8), time=0.1)
-    assert out.status == PlannerStatus.OK and "rotating to the plan" in out.message
+    assert out.status == PlannerStatus.ROTATING_TO_PLAN and "rotating to the plan" in out.message
     assert out.cmd[0] == 0.0 and out.cmd[1] == 0.0 and out.cmd[2] < 0.0  # the short way round
     # It turns until within rotate_tolerance, then the local planner drives on.
     assert "rotating" in _cycle(planner, PIONEER, (3.0, 2.0, 0.5), time=0.2).message
@@ -67,19 +67,84 @@ def test_no_rotation_shim_without_an_evasion_for_a_holonomic_base_or_when_off():
         assert "rotating" not in _cycle(planner, robot, (3.0, 2.0, 2.8), time=0.1).message
 
 
-def test_no_rotation_shim_near_the_goal():
+def test_no_rotation_shim_near_the_goal_and_none_later_after_it_declined():
     planner = _loop(PIONEER, RECOMMENDED_RECOVERY)
     assert _cycle(planner, PIONEER, (3.0, 2.0, 0.0), [_walker(6.0)]).status == "EVADING"
     assert "rotating" not in _cycle(planner, PIONEER, (10.3, 2.0, 2.8), time=0.1).message
+    # The shim belongs to the end of the evasion: a minute later, facing away far from the
+    # goal, the local planner decides.
+    later = _cycle(planner, PIONEER, (3.0, 2.0, 2.8), time=60.0)
+    assert later.status != PlannerStatus.ROTATING_TO_PLAN
+
+
+def test_a_turn_found_unsafe_is_tried_again_in_the_next_cycles():
+    planner = _loop(PIONEER, RECOMMENDED_RECOVERY)
+    assert _cycle(planner, PIONEER, (3.0, 2.0, 0.0), [_walker(6.0)]).status == "EVADING"
+    # Along a wall 0.23 m from its centre, the Pioneer (corners 0.29 m out) cannot turn on the
+    # spot; the evasion left it facing away from the plan.
+    wall = [[[0.0, 2.28], [12.0, 2.28]]]
+    blocked = _cycle(planner, PIONEER, (3.0, 2.0, np.pi), time=0.1, walls=wall)
+    assert blocked.status == PlannerStatus.OK
+    assert not np.allclose(blocked.cmd[:2], 0.0)  # the local planner's own command
+    again = _cycle(planner, PIONEER, (3.0, 2.0, np.pi), time=0.2)  # room to turn now
+    assert again.status == PlannerStatus.ROTATING_TO_PLAN
 
 
 @pytest.mark.parametrize(
-    "field", ["evasion_max_retreat", "rotation_shim_threshold", "rotation_shim_lookahead"]
+    "field",
+    [
+        "evasion_max_retreat",
+        "rotation_shim_threshold",
+        "rotation_shim_lookahead",
+        "rotation_shim_goal_distance",
+        "evasion_ttc",
+    ],
 )
-@pytest.mark.parametrize("bad", [-0.1, float("nan"), float("inf")])
-def test_the_new_parameters_are_checked(field, bad):
+@pytest.mark.parametrize("bad", [-0.1, float("nan"), float("inf"), "0.5", None, True])
+def test_recovery_parameters_are_checked_by_type_and_value(field, bad):
     with pytest.raises(ConfigurationError, match=field):
         RecoveryParams(**{field: bad})
+    with pytest.raises(ConfigurationError, match=field):
+        replace(RECOMMENDED_RECOVERY, **{field: bad})
+
+
+@pytest.mark.parametrize("bad", [0, 2.5, "3", True, -1])
+def test_recovery_counts_must_be_integers(bad):
+    with pytest.raises(ConfigurationError, match="max_recoveries"):
+        RecoveryParams(max_recoveries=bad)
+
+
+def test_a_shim_threshold_beyond_pi_or_a_lookahead_within_the_plan_end_is_refused():
+    with pytest.raises(ConfigurationError, match="at most pi"):
+        RecoveryParams(rotation_shim_threshold=90.0)  # degrees by mistake
+    with pytest.raises(ConfigurationError, match="rotation_shim_lookahead"):
+        RecoveryParams(rotation_shim_threshold=1.0, rotation_shim_lookahead=0.1)
+    RecoveryParams(rotation_shim_lookahead=0.1)  # the shim is off: no direction needed
+
+
+def test_every_entry_point_refuses_recovery_that_is_not_recovery_params():
+    from socialnav.planner.presets import PRESETS, build_navigator
+    from socialnav.sim.stack import StackController
+
+    cm, _ = world(12.0, 4.0, [], PIONEER)
+    with pytest.raises(ConfigurationError, match="RecoveryParams"):
+        _loop(PIONEER, {"evasion_max_retreat": 0.0})  # type: ignore[arg-type]
+    with pytest.raises(ConfigurationError, match="RecoveryParams"):
+        replace(PRESETS.get("paccet"), recovery={"evasion_max_retreat": 0.0})
+    with pytest.raises(ConfigurationError, match="rotation_shim"):
+        build_navigator("paccet", PIONEER, cm, GOAL, SocialContext(), recovery={"rotation_shim": 1})
+    with pytest.raises(ConfigurationError, match="evasion_max_retreat"):
+        StackController("paccet", recovery={"evasion_max_retreat": float("nan")})
+    with pytest.raises(ConfigurationError, match="mapping"):
+        StackController("paccet", recovery="junk")  # type: ignore[arg-type]
+    nav = build_navigator(
+        "paccet", PIONEER, cm, GOAL, SocialContext(), recovery={"evasion_max_retreat": 0.0}
+    )
+    assert nav.local_planner.params.evasion_max_retreat == 0.0
+    assert (
+        nav.local_planner.params.rotation_shim_threshold
+        == RECOMMENDED_RECOVERY.rotation_shim_threshold
+    )
 
 
 def _hallway_155(recovery=None):

@@ -1,6 +1,11 @@
 """Exception types: exceptions belong to configuration time; the hot path returns statuses."""
 
+import dataclasses
 import math
+from collections.abc import Mapping
+from typing import Any, TypeVar
+
+T = TypeVar("T")
 
 
 class SocialNavError(Exception):
@@ -21,3 +26,26 @@ def is_non_negative_number(value: object) -> bool:
     if isinstance(value, bool) or not isinstance(value, int | float):
         return False
     return math.isfinite(value) and value >= 0
+
+
+def with_overrides(base: T, overrides: T | Mapping[str, Any] | None, what: str) -> T:
+    """``base`` (a dataclass instance) with the fields in mapping ``overrides`` replaced (the
+    dataclass checks the values); an ``overrides`` of ``base``'s own type is returned as is,
+    ``None`` gives ``base``. Raises ``ConfigurationError`` naming ``what`` for an unknown field
+    or an ``overrides`` that is neither."""
+    if overrides is None:
+        return base
+    if isinstance(overrides, type(base)):
+        return overrides
+    if not isinstance(overrides, Mapping):
+        raise ConfigurationError(
+            f"{what} parameters must be a {type(base).__name__} or a mapping of its fields,"
+            f" got {type(overrides).__name__}"
+        )
+    known = {f.name for f in dataclasses.fields(base)}  # type: ignore[arg-type]
+    unknown = sorted(set(overrides) - known)
+    if unknown:
+        raise ConfigurationError(
+            f"unknown {what} parameter(s) {unknown}; known: {', '.join(sorted(known))}"
+        )
+    return dataclasses.replace(base, **overrides)  # type: ignore[type-var]

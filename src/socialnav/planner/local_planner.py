@@ -78,6 +78,7 @@ class PlannerStatus(StrEnum):
     CRITIC_UNAVAILABLE = "CRITIC_UNAVAILABLE"
     WAITING = "WAITING"
     EVADING = "EVADING"
+    ROTATING_TO_PLAN = "ROTATING_TO_PLAN"
 
 
 @dataclass(frozen=True)
@@ -88,7 +89,7 @@ class PlannerResult:
     - ``cmd (3,)``: body twist ``(vx, vy, wz)`` to apply, m/s and rad/s, robot frame;
     - ``status``: :class:`PlannerStatus`;
     - ``record``: the cycle's :class:`EvaluationRecord` when asked (``record=True``), else None;
-    - ``message``: why, for a status other than ``OK``;
+    - ``message``: why, or what the control loop does, for a status other than ``OK``;
     - ``target``: the world pose ``(3,)`` the cycle drove toward (the social goal, a waypoint or
       the given goal), or None when the cycle did not get that far; success is measured against
       the target the controller recorded last.

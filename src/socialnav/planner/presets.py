@@ -43,14 +43,14 @@ gallery, 5 in the queue.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field, replace
 from typing import Any, Literal
 
 import numpy as np
 from numpy.typing import NDArray
 
-from socialnav.core.errors import ConfigurationError, is_non_negative_number
+from socialnav.core.errors import ConfigurationError, is_non_negative_number, with_overrides
 from socialnav.core.geometry import FloatArray
 from socialnav.core.registry import Registry
 from socialnav.core.robot import RobotModel
@@ -117,6 +117,11 @@ class PlannerPreset:
     detour_limit: float = 0.0
 
     def __post_init__(self) -> None:
+        if not isinstance(self.recovery, RecoveryParams):
+            raise ConfigurationError(
+                f"planner preset {self.description!r}: recovery must be a RecoveryParams, got"
+                f" {type(self.recovery).__name__}"
+            )
         for name in ("replan_hysteresis", "detour_limit"):
             value = getattr(self, name)
             if not is_non_negative_number(value):
@@ -666,7 +671,7 @@ def build_navigator(
     social: SocialContext,
     record: bool = False,
     params: LocalPlannerParams | None = None,
-    recovery: RecoveryParams | None = None,
+    recovery: RecoveryParams | Mapping[str, Any] | None = None,
     default_tolerance: float = 1.0,
     planner_frequency: float = 0.5,
     global_search: GlobalSearch = "scipy",
@@ -678,14 +683,16 @@ def build_navigator(
 
     ROS-named options: ``params`` (``dwa_local_planner``), ``recovery`` (progress checker
     ``required_movement_radius``/``movement_time_allowance``, ``controller_patience``, waiting
-    and evasion; :class:`~socialnav.planner.recovery.RecoveryParams`; default the preset's),
+    and evasion; :class:`~socialnav.planner.recovery.RecoveryParams`, or a mapping of field
+    overrides of the preset's, e.g. ``{"evasion_max_retreat": 0.0}``; default the preset's),
     ``default_tolerance`` (m, navfn: how far a blocked goal may move to a reachable point) and
     ``planner_frequency`` (Hz, move_base: periodic global replanning); ``global_search``,
     ``replan_mode`` and ``replan_delay`` as in :class:`Navigator` (rate-separated replanning;
     the defaults replan inline with SciPy's Dijkstra); ``detour_limit`` as in
     :class:`Navigator` (``None``: the preset's; 0 switches it off). The objective set follows
     the people in view every cycle (:class:`SceneObjectives`); ``social`` only seeds it.
-    Raises ``ConfigurationError`` on an unknown preset, a non-positive ``planner_frequency``
+    Raises ``ConfigurationError`` on an unknown preset or recovery field, a bad recovery value,
+    a non-positive ``planner_frequency``
     or a ``detour_limit`` that is not a finite number >= 0 or is positive for a preset without
     a social global plan.
     """
@@ -693,7 +700,8 @@ def build_navigator(
     if not (np.isfinite(planner_frequency) and planner_frequency > 0):
         raise ConfigurationError(f"planner_frequency must be positive, got {planner_frequency}")
     local = RecoveringPlanner(
-        build_local_planner(name, robot, social, params), recovery or preset.recovery
+        build_local_planner(name, robot, social, params),
+        with_overrides(preset.recovery, recovery, "recovery"),
     )
     layer: CostmapLayer | None = None
     if preset.proxemic_layer:

@@ -18,8 +18,8 @@ Behaviour (parameters in :class:`RecoveryParams`, ROS/Nav2 names, budgets in sec
   ``evasion_ttc`` s and
   the person walks faster than ``evasion_min_person_speed``, the robot takes the evasive twist
   of :mod:`socialnav.planner.evasion` that keeps the largest gap over ``evasion_horizon`` s —
-  when it keeps a larger gap than the planner's own command. Two additions (off by default:
-  the ROS stack has neither; the ``paccet`` preset turns both on):
+  when it keeps a larger gap than the planner's own command. Four additions (off by default:
+  the ROS stack has none of them; the ``paccet`` preset turns them on):
   (1) the same evasion when a walker's closest approach under the chosen command (both at
   constant velocity) comes within ``evasion_personal_distance`` m (the 1.2 m personal space)
   inside ``evasion_personal_time`` s;
@@ -46,23 +46,25 @@ Behaviour (parameters in :class:`RecoveryParams`, ROS/Nav2 names, budgets in sec
   ``passing_retreat`` m of plan farther from the goal than the encounter began is refused
   (keeping the distance by fleeing is not the robot's job), and giving way takes over.
   (4) *no fleeing* (``evasion_max_retreat`` > 0), under timed passing's gate on the number
-  of people near: giving way's moves that end more than ``evasion_max_retreat`` m farther
-  from the goal than the robot is now are left out while another move keeps clear of contact
-  over the encounter. A walker who takes the whole lane can be let past beside a wall, at
-  less than the personal distance; driving ahead of them keeps the distance only until the
-  corridor ends, where they stop and block the way back. In a crowd, whose constant-velocity
-  forecasts do not hold, moving away stays allowed.
-- **Rotation shim after an evasion** (``rotation_shim_threshold`` > 0, differential drive
-  only; Nav2's ``RotationShimController``, ``angular_dist_threshold`` and
-  ``forward_sampling_distance`` = ``rotation_shim_lookahead``): when an evasion has ended with
-  the robot facing more than the threshold away from the plan (the direction to the plan's
-  point ``rotation_shim_lookahead`` m on from its nearest vertex), it turns in place toward
-  the plan, down to ``rotate_tolerance``, before the local planner takes over again (status
-  ``OK``). A differential-drive robot cannot back up at speed, and a local planner left facing
-  away keeps driving that way while walkers follow (its interpersonal objective rewards the
-  distance). Not within ``rotation_shim_goal_distance`` m of the goal (the goal handling turns
-  the robot there), not when the turn is unsafe (checked as the recoveries' steps are), and
-  only once per evasion.
+  of people near: at each giving-way decision, the moves that end more than
+  ``evasion_max_retreat`` m farther from the goal (straight line) than the robot is now are
+  left out while another move keeps clear of contact over the encounter. A walker who takes
+  the whole lane can be let past beside a wall, at less than the personal distance; driving
+  ahead of them keeps the distance only until the corridor ends, where they stop and block
+  the way back. In a crowd, whose constant-velocity forecasts do not hold, moving away stays
+  allowed.
+- **Rotation shim after an evasion** (status ``ROTATING_TO_PLAN``; ``rotation_shim_threshold``
+  > 0, differential drive only; Nav2's ``RotationShimController``, ``angular_dist_threshold``
+  and ``forward_sampling_distance`` = ``rotation_shim_lookahead``): in the first cycle after
+  an evasion (``EVADING``) ends, if the robot faces more than the threshold away from the plan
+  (the direction to the plan's point ``rotation_shim_lookahead`` m on from its nearest
+  vertex), it turns in place toward the plan, down to ``rotate_tolerance``, before the local
+  planner takes over again. A differential-drive robot cannot back up at speed, and a local
+  planner left facing away keeps driving that way while walkers follow (its interpersonal
+  objective rewards the distance). It does not act within ``rotation_shim_goal_distance`` m
+  (straight line) of the goal (the goal handling turns the robot there) or at the plan's end
+  (its point within 0.2 m); a turn found unsafe (checked as the recoveries' steps are) is
+  tried again in the next cycles, until the robot faces the plan or another evasion begins.
 - **Waiting** (status ``WAITING``, zero command; the navigator decelerates it within the
   acceleration limits and replans): when no trajectory is legal, or the legal ones make no
   progress, and a person blocks: within ``person_blocking_distance`` m (footprint circle to
@@ -86,6 +88,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, fields
+from numbers import Integral, Real
 
 import numpy as np
 
@@ -122,6 +125,8 @@ _AT_GOAL = (PlannerStatus.GOAL_REACHED, PlannerStatus.ROTATING_TO_GOAL)
 APPROACH_SPEED = 0.02
 #: how far ahead (s) an evasive move is checked for closing on a touched person
 APPROACH_HORIZON = 1.0
+#: the rotation shim's plan point nearer than this (m): the robot is at the plan's end
+PLAN_END = 0.2
 
 
 @dataclass(frozen=True)
@@ -132,6 +137,18 @@ class RecoveryParams:
     (0.1 m/s), ``controller_patience`` 30 s (longer than move_base's 15 s: waiting for a person
     to clear a corridor is normal), evasion below 3 s to collision (a person at 1.5 m/s is then
     4.5 m away: time for a 0.3 m/s sidestep).
+
+    The control loop's additions (module docstring), each off at 0 and on in ``paccet``
+    (``presets.RECOMMENDED_RECOVERY``):
+    ``evasion_personal_distance`` (m; 1.2), ``evasion_personal_time`` (s), ``evasion_hold_step``
+    (s; 1.0), ``passing_distance`` (m; 1.25) with ``passing_horizon`` (s),
+    ``passing_retreat`` (m of plan), ``passing_max_people`` within ``passing_count_range`` (m);
+    ``evasion_max_retreat`` (m of straight-line distance to the goal; 0.5): no fleeing, under
+    timed passing's gate; ``rotation_shim_threshold`` (rad, at most pi; pi/2): the rotation shim
+    after an evasion, differential drive only, toward the plan's point
+    ``rotation_shim_lookahead`` m on (> 0.2 m), not within ``rotation_shim_goal_distance`` m
+    (straight line) of the goal. Raises ``ConfigurationError`` naming the field for a value
+    that is not a number (an integer for the counts), negative, NaN or out of range.
     """
 
     backup_speed: float = 0.1
@@ -158,8 +175,8 @@ class RecoveryParams:
     passing_retreat: float = 0.5
     passing_max_people: int = 3
     passing_count_range: float = 10.0
-    evasion_max_retreat: float = 0.0  # off; paccet 0.5
-    rotation_shim_threshold: float = 0.0  # off; paccet pi/2
+    evasion_max_retreat: float = 0.0
+    rotation_shim_threshold: float = 0.0
     rotation_shim_lookahead: float = 0.5
     rotation_shim_goal_distance: float = 1.0
 
@@ -167,10 +184,28 @@ class RecoveryParams:
         for f in fields(self):
             value = getattr(self, f.name)
             if f.name in ("num_headings", "max_recoveries", "passing_max_people"):
-                if int(value) < 1:
-                    raise ConfigurationError(f"recovery parameter {f.name} must be >= 1")
-            elif not (np.isfinite(value) and value >= 0):
-                raise ConfigurationError(f"recovery parameter {f.name} must be finite and >= 0")
+                if isinstance(value, bool) or not isinstance(value, Integral) or value < 1:
+                    raise ConfigurationError(
+                        f"recovery parameter {f.name} must be an integer >= 1, got {value!r}"
+                    )
+            elif isinstance(value, bool) or not isinstance(value, Real):
+                raise ConfigurationError(
+                    f"recovery parameter {f.name} must be a number, got {value!r}"
+                )
+            elif not (math.isfinite(value) and float(value) >= 0):
+                raise ConfigurationError(
+                    f"recovery parameter {f.name} must be finite and >= 0, got {value!r}"
+                )
+        if self.rotation_shim_threshold > math.pi:
+            raise ConfigurationError(
+                "recovery parameter rotation_shim_threshold must be at most pi (rad), got"
+                f" {self.rotation_shim_threshold!r}"
+            )
+        if self.rotation_shim_threshold > 0 and self.rotation_shim_lookahead <= PLAN_END:
+            raise ConfigurationError(
+                f"recovery parameter rotation_shim_lookahead must be > {PLAN_END} m (nearer"
+                f" points give no direction), got {self.rotation_shim_lookahead!r}"
+            )
         if self.passing_distance > 0 and self.passing_horizon <= 0:
             raise ConfigurationError("recovery parameter passing_horizon must be positive")
         for name in ("required_movement_radius", "movement_time_allowance", "evasion_horizon"):
@@ -207,9 +242,16 @@ def body_to_world_velocity(pose: FloatArray, twist: FloatArray) -> FloatArray:
 
 class RecoveringPlanner:
     """Wraps any :class:`LocalPlannerProtocol` (and is one): evasion, waiting, recoveries and a
-    non-latching ``STUCK`` (module docstring). Never raises on a well-typed context."""
+    non-latching ``STUCK`` (module docstring). Never raises on a well-typed context. Its
+    commands keep the velocity limits, not the acceleration limits: the
+    :class:`~socialnav.planner.navigator.Navigator` around it applies those. Raises
+    ``ConfigurationError`` when ``params`` is not a :class:`RecoveryParams`."""
 
     def __init__(self, planner: LocalPlannerProtocol, params: RecoveryParams | None = None) -> None:
+        if params is not None and not isinstance(params, RecoveryParams):
+            raise ConfigurationError(
+                f"recovery parameters must be a RecoveryParams, got {type(params).__name__}"
+            )
         self.planner = planner
         self.params = params or RecoveryParams()
         self._occupancy = OccupancyCritic()
@@ -320,14 +362,16 @@ class RecoveringPlanner:
         return self._out(cmd, PlannerStatus.RECOVERING, result.record, why)
 
     def _rotation_shim(self, ctx: PlanningContext, result: PlannerResult) -> PlannerResult | None:
-        """An in-place turn toward the plan after an evasion (module docstring), or None."""
+        """An in-place turn toward the plan after an evasion (module docstring), or None; it
+        disarms unless the turn was only unsafe this cycle."""
         p, r = self.params, self.robot
         path = np.asarray(ctx.global_path, dtype=float).reshape(-1, 2)
         to_goal = float(np.hypot(*(ctx.pose[:2] - np.asarray(ctx.goal, dtype=float)[:2])))
         if p.rotation_shim_threshold <= 0 or r.holonomic:
+            self._shim_armed = False
             return None
         if path.shape[0] < 2 or to_goal < p.rotation_shim_goal_distance:
-            self._shim_turning = False
+            self._shim_armed = self._shim_turning = False
             return None
         dense = densify_path(path, 0.05)
         i = int(kernels.nearest_vertex(ctx.pose[None, :2], dense)[0])
@@ -335,8 +379,8 @@ class RecoveringPlanner:
         j = i + min(int(np.searchsorted(ahead, p.rotation_shim_lookahead)), ahead.size - 1)
         dx, dy = dense[j] - ctx.pose[:2]
         err = float(wrap_angle(math.atan2(dy, dx) - ctx.pose[2]))
-        if math.hypot(dx, dy) < 0.2:  # at the plan's end
-            self._shim_turning = False
+        if math.hypot(dx, dy) < PLAN_END:
+            self._shim_armed = self._shim_turning = False
             return None
         if abs(err) <= (p.rotate_tolerance if self._shim_turning else p.rotation_shim_threshold):
             self._shim_armed = self._shim_turning = False
@@ -348,7 +392,7 @@ class RecoveringPlanner:
             return None
         self._shim_turning = True
         why = f"rotating to the plan ({err:+.2f} rad off) after evading"
-        return self._out(twist, PlannerStatus.OK, result.record, why)
+        return self._out(twist, PlannerStatus.ROTATING_TO_PLAN, result.record, why)
 
     def _blocking_person(self, ctx: PlanningContext) -> tuple[int, float] | None:
         """``(index, gap m)`` of the person blocking the robot (module docstring), or None."""

@@ -7,14 +7,13 @@ navground's own YAML experiments (through the ``SocialNav`` behaviour) can use i
 
 from __future__ import annotations
 
-import dataclasses
 from collections.abc import Mapping
 from functools import partial
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from socialnav.core.errors import ConfigurationError
+from socialnav.core.errors import ConfigurationError, with_overrides
 from socialnav.core.geometry import FloatArray
 from socialnav.core.robot import RobotModel
 from socialnav.core.scene import SocialContext
@@ -70,7 +69,7 @@ class StackController:
         self.preset = preset
         self.record = record
         self.params = _planner_params(self.preset_spec.params, params)
-        self.recovery = _overrides(self.preset_spec.recovery, recovery, "recovery")
+        self.recovery = with_overrides(self.preset_spec.recovery, recovery, "recovery")
         if global_search not in ("scipy", "compiled"):
             raise ConfigurationError(f"global_search must be scipy|compiled, got {global_search!r}")
         if replan_mode not in ("inline", "deferred", "threaded"):
@@ -127,21 +126,7 @@ class StackController:
 def _planner_params(
     base: LocalPlannerParams, params: LocalPlannerParams | Mapping[str, Any] | None
 ) -> LocalPlannerParams:
-    return _overrides(base, params, "local planner")
-
-
-def _overrides(base: Any, params: Any, what: str) -> Any:
-    """``base`` (a dataclass) with the fields in mapping ``params`` replaced; ``params`` of
-    ``base``'s own type is returned as is, ``None`` gives ``base``."""
-    if params is None or isinstance(params, type(base)):
-        return params or base
-    known = {f.name for f in dataclasses.fields(base)}
-    unknown = sorted(set(params) - known)
-    if unknown:
-        raise ConfigurationError(
-            f"unknown {what} parameter(s) {unknown}; known: {', '.join(sorted(known))}"
-        )
-    return dataclasses.replace(base, **params)
+    return with_overrides(base, params, "local planner")
 
 
 def register_preset(name: str, preset: PlannerPreset, *, compared: bool = True) -> None:

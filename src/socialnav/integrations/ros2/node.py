@@ -109,6 +109,7 @@ LEVELS = {
     "OK": DiagnosticStatus.OK,
     "GOAL_REACHED": DiagnosticStatus.OK,
     "ROTATING_TO_GOAL": DiagnosticStatus.OK,
+    "ROTATING_TO_PLAN": DiagnosticStatus.OK,
     "WAITING": DiagnosticStatus.OK,
     "INVALID_INPUT": DiagnosticStatus.ERROR,
     "CRITIC_UNAVAILABLE": DiagnosticStatus.ERROR,
