@@ -370,7 +370,11 @@ DETOUR_LIMIT = 0.5
 #: 183 / 187, 6; others 356, 2, time ratio to hl −0.00 to −0.02; crowds 354, 3, 112, 6.52 s,
 #: 1.32. Shim at 45° (Nav2's default) with ungated no fleeing: hallway 186 / 186; no fleeing at
 #: 1.0 m: 184 / 185; the encounter's retreat reference of timed passing taken as its best
-#: point so far: 179 / 185.
+#: point so far: 179 / 185. Measured after the reporting split had shown a Pioneer left
+#: facing away 0.22 m from a wall (reporting seed 10116), and not adopted: where the shim's
+#: turn on the spot is blocked in the local costmap, a slow arc (0.2 m/s) instead: hallway
+#: Pioneer 183 → 184, but crowds 354 → 348 successes and 3 → 8 active-contact episodes (the
+#: local costmap holds people too, so the arc also ran beside them).
 MAX_RETREAT = 0.5
 RECOMMENDED_RECOVERY = RecoveryParams(
     evasion_personal_distance=1.2,
