@@ -355,7 +355,8 @@ DETOUR_LIMIT = 0.5
 #: driving ahead of them down the corridor, or was turned away from its plan by an evasion and
 #: then driven that way by the local planner (its interpersonal objective rewards the distance),
 #: until the walkers stopped at the corridor's end and blocked its way back (hallway dev seed
-#: 155 after 7 m of it; 14 of the Pioneer's 23 dev failures were such timeouts). Generated dev
+#: 155 after 5.8 m of it; 14 of the Pioneer's 23 dev failures were timeouts, 9 of them after
+#: more than 1.5 m driven away from the goal). Generated dev
 #: seeds, passes of paccet (Pioneer / PR2) and collision runs: hallway 0–199 (400 runs),
 #: crowdnav + crowdnav_visible + mixed 0–59 (360 runs); recorded crowds dev seeds 0–89 (360
 #: episodes: successes, active- and passive-contact episodes, time within 1.2 m, path ratio):
