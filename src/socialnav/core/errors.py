@@ -3,6 +3,7 @@
 import dataclasses
 import math
 from collections.abc import Mapping
+from numbers import Real
 from typing import Any, TypeVar
 
 T = TypeVar("T")
@@ -21,11 +22,12 @@ class InvalidInputError(SocialNavError, ValueError):
 
 
 def is_non_negative_number(value: object) -> bool:
-    """Whether ``value`` is a finite real number >= 0 (an ``int`` or ``float``, not a ``bool``
-    or a string): the check of the planner's fractions and margins at configuration time."""
-    if isinstance(value, bool) or not isinstance(value, int | float):
+    """Whether ``value`` is a finite real number >= 0 (any ``numbers.Real``, NumPy's included,
+    not a ``bool`` or a string): the check of the planner's fractions, margins and loop
+    parameters at configuration time."""
+    if isinstance(value, bool) or not isinstance(value, Real):
         return False
-    return math.isfinite(value) and value >= 0
+    return math.isfinite(value) and float(value) >= 0
 
 
 def with_overrides(base: T, overrides: T | Mapping[str, Any] | None, what: str) -> T:

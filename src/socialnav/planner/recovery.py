@@ -88,11 +88,11 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, fields
-from numbers import Integral, Real
+from numbers import Integral
 
 import numpy as np
 
-from socialnav.core.errors import ConfigurationError
+from socialnav.core.errors import ConfigurationError, is_non_negative_number
 from socialnav.core.geometry import FloatArray, wrap_angle
 from socialnav.core.robot import RobotModel
 from socialnav.core.trajectories import Trajectories
@@ -188,13 +188,9 @@ class RecoveryParams:
                     raise ConfigurationError(
                         f"recovery parameter {f.name} must be an integer >= 1, got {value!r}"
                     )
-            elif isinstance(value, bool) or not isinstance(value, Real):
+            elif not is_non_negative_number(value):
                 raise ConfigurationError(
-                    f"recovery parameter {f.name} must be a number, got {value!r}"
-                )
-            elif not (math.isfinite(value) and float(value) >= 0):
-                raise ConfigurationError(
-                    f"recovery parameter {f.name} must be finite and >= 0, got {value!r}"
+                    f"recovery parameter {f.name} must be a finite number >= 0, got {value!r}"
                 )
         if self.rotation_shim_threshold > math.pi:
             raise ConfigurationError(

@@ -68,7 +68,7 @@ class StackController:
         self.detour_limit = detour_limit
         self.preset = preset
         self.record = record
-        self.params = _planner_params(self.preset_spec.params, params)
+        self.params = with_overrides(self.preset_spec.params, params, "local planner")
         self.recovery = with_overrides(self.preset_spec.recovery, recovery, "recovery")
         if global_search not in ("scipy", "compiled"):
             raise ConfigurationError(f"global_search must be scipy|compiled, got {global_search!r}")
@@ -121,12 +121,6 @@ class StackController:
         if self.navigator is None:
             return PlannerResult(np.zeros(3), PlannerStatus.INVALID_INPUT, None, "reset() first")
         return self.navigator.step(time, pose, velocity, social)
-
-
-def _planner_params(
-    base: LocalPlannerParams, params: LocalPlannerParams | Mapping[str, Any] | None
-) -> LocalPlannerParams:
-    return with_overrides(base, params, "local planner")
 
 
 def register_preset(name: str, preset: PlannerPreset, *, compared: bool = True) -> None:
