@@ -158,6 +158,12 @@ def test_critics_bit_identical(
         InterpersonalCritic(evaluation="max_over_time", partner_distance=True, hold_horizon=2.5),
         InterpersonalCritic(
             evaluation="max_over_time",
+            partner_distance=True,
+            hold_horizon=2.5,
+            passage_distance=True,
+        ),
+        InterpersonalCritic(
+            evaluation="max_over_time",
             distance="edge",
             footprint_disc="circumscribed",
             hold_horizon=1.0,

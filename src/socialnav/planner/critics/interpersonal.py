@@ -28,6 +28,15 @@ Deviations and choices:
   social goal, the same rule holds for anyone nearer the given goal than ``threshold``: the
   goal's own distance from them, less the margin (a goal beside a standing stranger is
   reachable without a crawl against ID).
+- Narrow passages (``passage_distance=True``, off by default: the paper has no such rule): a
+  person standing (slower than ``STANDING_SPEED``) within ``threshold`` of the global plan's
+  next ``PASSAGE_LOOKAHEAD`` m, beside a passage that allows less than ``threshold``
+  (:func:`passage_clearances`), gets the passage's own distance less ``partner_margin`` as
+  their threshold — at least ``PERSONAL_DISTANCE + partner_margin`` where the passage allows
+  the 1.2 m personal space — and their distance is scaled as for partners. Without it,
+  passing someone who stands 0.8 m from a wall costs more ID the farther the robot has
+  driven, up to the closest point, so every cycle a slower command scores better: the robot
+  crawled, and the progress checker gave up beside the person (generated hallway).
 - Passing distance (``hold_horizon`` s, 0 = off; ``max_over_time`` only): after the rollout the
   robot is assumed to stand at the trajectory's end point while people walk on at constant
   velocity for ``hold_horizon`` s, and the distance is the minimum over the rollout and that
@@ -66,6 +75,7 @@ Deviations and choices:
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import lru_cache
 from typing import TYPE_CHECKING, ClassVar, Literal
 
 import numpy as np
@@ -194,9 +204,135 @@ def passing_distances(
     return out
 
 
-def partner_thresholds(ctx: PlanningContext, threshold: float, margin: float) -> FloatArray:
-    """Per person ``(K,)``: ``threshold`` (m), or for an interaction partner of the stopping
-    social goal the spot's own distance to them less ``margin`` (see the module docstring)."""
+#: people slower than this (m/s) stand (``passage_distance``)
+STANDING_SPEED = 0.1
+#: how much of the global plan ahead (m) ``passage_distance`` looks at
+PASSAGE_LOOKAHEAD = 3.0
+#: the personal space (m) a passage that allows it keeps (``passage_distance``)
+PERSONAL_DISTANCE = 1.2
+#: how far (m) to either side of a standing person the passage is looked at
+PASSAGE_REACH = 3.0
+
+
+def passage_clearances(ctx: PlanningContext, threshold: float) -> FloatArray:
+    """``(K,)`` for each person standing within ``threshold`` (m) of the global plan's next
+    ``PASSAGE_LOOKAHEAD`` m: the largest centre distance (m) from them at which the robot's
+    centre can pass, on the cross-section through them perpendicular to the plan, among the
+    places that keep the most distance from every standing person; ``inf`` for everyone else.
+
+    The cross-section runs ``PASSAGE_REACH`` m to either side, through other people (a pair
+    standing side by side is passed on the side with room for both) but not through static
+    obstacles; a place is free where ``ctx.costmap`` is below INSCRIBED, or inside a walker's
+    own cells (they walk on) away from static obstacles. An estimate at the costmap's
+    resolution: exact for a straight corridor, the local section of the passage elsewhere."""
+    from socialnav.planner.critics.map_grid import densify_path
+    from socialnav.world.grid import INSCRIBED, LETHAL
+
+    social = ctx.social
+    k = len(social.people)
+    out = np.full(k, np.inf)
+    path = np.asarray(ctx.global_path, dtype=float).reshape(-1, 2)
+    if k == 0 or path.shape[0] < 2:
+        return out
+    pos, radii = social.positions(), social.radii()
+    speed = np.hypot(*social.velocities().reshape(-1, 2).T)
+    standing = speed < STANDING_SPEED
+    if not standing.any():
+        return out
+    dense = densify_path(path, 0.05)
+    i = int(kernels.nearest_vertex(np.asarray(ctx.pose, dtype=float)[None, :2], dense)[0])
+    ahead = dense[i:]
+    s = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(ahead, axis=0).T))])
+    ahead = ahead[s <= PASSAGE_LOOKAHEAD]
+    if ahead.shape[0] < 2:
+        return out
+    d = np.hypot(*(ahead[None] - pos[:, None]).transpose(2, 0, 1))  # (K, P)
+    todo = np.flatnonzero(standing & (d.min(axis=1) < threshold))
+    if todo.size == 0:
+        return out
+    cm = ctx.costmap
+    res = cm.resolution
+    inscribed = ctx.robot.inscribed_radius
+    t = np.arange(-PASSAGE_REACH, PASSAGE_REACH + 0.5 * res, res)  # (S,) offsets (m)
+    middle = int(np.argmin(np.abs(t)))
+    still = pos[standing]
+    walkers = np.flatnonzero(~standing)
+    # the cross-sections (P, S): through each person, perpendicular to the plan's tangent
+    j = np.argmin(d[todo], axis=1)
+    last = ahead.shape[0] - 1
+    tangent = ahead[np.minimum(j + 3, last)] - ahead[np.maximum(j - 3, 0)]  # (P, 2)
+    norm = np.hypot(*tangent.T)
+    ok = norm > 1e-9
+    todo, tangent, norm = todo[ok], tangent[ok], norm[ok]
+    if todo.size == 0:
+        return out
+    normal = np.stack([-tangent[:, 1], tangent[:, 0]], axis=1) / norm[:, None]
+    pts = pos[todo, None, :] + t[None, :, None] * normal[:, None, :]  # (P, S, 2)
+    free = cm.cost_at(pts) < INSCRIBED
+    to_still = np.hypot(*(pts[:, :, None] - still).transpose(3, 0, 1, 2)).min(axis=-1)
+    if walkers.size:
+        to_walkers = np.hypot(*(pts[:, :, None] - pos[walkers]).transpose(3, 0, 1, 2))
+        near = (to_walkers <= radii[walkers] + inscribed + 2 * res).any(axis=-1) & ~free
+        if near.any():  # free unless a static LETHAL cell is within the inscribed radius
+            dr, dc = _disc_offsets(inscribed, res)
+            rc = cm.geometry.world_to_cell(pts[near])  # (Q, 2)
+            cells = np.stack([rc[:, None, 0] + dr, rc[:, None, 1] + dc], axis=-1)  # (Q, M, 2)
+            world = np.asarray(cm.geometry.origin) + (cells[..., ::-1] + 0.5) * res
+            lethal = cm.cost_at(world) >= LETHAL  # (Q, M)
+            to_walker = np.hypot(*(world[:, :, None] - pos[walkers]).transpose(3, 0, 1, 2))
+            mine = (to_walker <= radii[walkers] + res).any(axis=-1)
+            free[near] = ~(lethal & ~mine).any(axis=1)
+    # static obstacles end a cross-section on either side of the person; people do not
+    wall = ~free & (to_still > radii.max() + inscribed + 2 * res)
+    up, down = wall[:, middle:], wall[:, middle::-1]
+    stop = np.where(up.any(axis=1), middle + up.argmax(axis=1), t.size)  # (P,) exclusive
+    first = np.where(down.any(axis=1), middle - down.argmax(axis=1) + 1, 0)
+    idx = np.arange(t.size)
+    free &= (idx >= first[:, None]) & (idx < stop[:, None])
+    has = free.any(axis=1)
+    best_d = np.where(free, to_still, -np.inf).max(axis=1, initial=-np.inf)  # (P,)
+    best = free & (to_still >= best_d[:, None] - res)
+    room = np.where(best, np.abs(t), -np.inf).max(axis=1, initial=-np.inf)
+    out[todo[has]] = room[has]
+    return out
+
+
+@lru_cache(maxsize=8)
+def _disc_offsets(radius: float, res: float) -> tuple[NDArray[np.intp], NDArray[np.intp]]:
+    """Cell offsets ``(M,)`` rows and columns within ``radius`` (m) of a cell's centre."""
+    n = int(np.ceil(radius / res))
+    dr, dc = np.mgrid[-n : n + 1, -n : n + 1]
+    keep = np.hypot(dr, dc) * res <= radius
+    return dr[keep], dc[keep]
+
+
+def partner_thresholds(
+    ctx: PlanningContext,
+    threshold: float,
+    margin: float,
+    passage: bool = False,
+    partners: bool = True,
+) -> FloatArray:
+    """Per person ``(K,)``: ``threshold`` (m); with ``partners``, for an interaction partner of
+    the stopping social goal the spot's own distance to them less ``margin``; with
+    ``passage``, for a person standing beside a narrow passage the passage's own distance less
+    ``margin`` (module docstring)."""
+    if partners:
+        out = _partner_thresholds(ctx, threshold, margin)
+    else:
+        out = np.full(len(ctx.social.people), float(threshold))
+    if passage and out.size:
+        room = passage_clearances(ctx, threshold)
+        own = np.where(
+            room >= PERSONAL_DISTANCE,
+            np.maximum(room - margin, PERSONAL_DISTANCE + margin),
+            room - margin,
+        )
+        out = np.where(room < threshold, np.minimum(out, np.maximum(own, 1e-3)), out)
+    return out
+
+
+def _partner_thresholds(ctx: PlanningContext, threshold: float, margin: float) -> FloatArray:
     social = ctx.social
     out = np.full(len(social.people), float(threshold))
     sg = ctx.social_goal
@@ -238,7 +374,8 @@ class InterpersonalCritic(Critic):
     cap), ``footprint_disc`` (``inscribed`` | ``circumscribed``), ``collision_check`` (bool),
     ``partner_distance`` (bool) and ``partner_margin`` (m, 0.05), ``approach_check`` (bool),
     ``approach_speed`` (m/s, 0.02) and ``approach_footprint`` (``disc`` | ``polygon``),
-    ``hold_horizon`` (s, 0 = off); each is described in the module docstring. Use:
+    ``hold_horizon`` (s, 0 = off), ``passage_distance`` (bool); each is described in the module
+    docstring. Use:
     ``InterpersonalCritic(...).score(trajs, ctx)`` with a
     :class:`~socialnav.planner.context.PlanningContext` (no ``prepare`` needed).
     """
@@ -259,6 +396,7 @@ class InterpersonalCritic(Critic):
     approach_speed: float = 0.02
     approach_footprint: Literal["disc", "polygon"] = "disc"
     hold_horizon: float = 0.0
+    passage_distance: bool = False
 
     def __post_init__(self) -> None:
         if not self.threshold > 0 or not self.min_distance > 0:
@@ -286,6 +424,16 @@ class InterpersonalCritic(Critic):
             raise ConfigurationError(
                 "interpersonal: footprint_disc must be inscribed|circumscribed"
             )
+
+    def _distance_scale(self, ctx: PlanningContext) -> FloatArray | None:
+        """``(K,)`` factor on each person's distance, ``threshold / own threshold`` (partners,
+        narrow passages: module docstring), or None when neither option is on."""
+        if not (self.partner_distance or self.passage_distance):
+            return None
+        own = partner_thresholds(
+            ctx, self.threshold, self.partner_margin, self.passage_distance, self.partner_distance
+        )
+        return np.asarray(self.threshold / own)
 
     def score(self, trajs: Trajectories, ctx: PlanningContext) -> CriticScore:
         """Raw cost ``(N,)`` and illegal masks of the batch (see the class docstring)."""
@@ -330,9 +478,9 @@ class InterpersonalCritic(Critic):
                 d = np.minimum(d, passing_distances(trajs, ctx, self.hold_horizon, reach))
         if self.distance == "edge":
             d = np.maximum(d - radii - robot_r, 0.0)
-        if self.partner_distance:
-            own = partner_thresholds(ctx, self.threshold, self.partner_margin)  # (K,)
-            d = d * (self.threshold / own)[None, :]
+        scale = self._distance_scale(ctx)
+        if scale is not None:
+            d = d * scale[None, :]
         f = capped_inverse_exp(d, self.threshold, self.min_distance)  # (N, K)
 
         if self.person_slot is None:
@@ -398,9 +546,9 @@ class InterpersonalCritic(Critic):
         d, hit = kernels.person_distances(d2min, cols, end, start, step, passing[cols], r2, collide)
         if self.distance == "edge":
             d = np.maximum(d - radii[cols] - robot_r, 0.0)
-        if self.partner_distance:
-            own = partner_thresholds(ctx, self.threshold, self.partner_margin)  # (K,)
-            d = d * (self.threshold / own)[cols][None, :]
+        scale = self._distance_scale(ctx)
+        if scale is not None:
+            d = d * scale[cols][None, :]
         f = capped_inverse_exp(d, self.threshold, self.min_distance)  # (N, J)
         cost = f.max(axis=1, initial=0.0)
         illegal: dict[str, np.ndarray] = {}

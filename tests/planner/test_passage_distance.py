@@ -1,0 +1,153 @@
+"""People standing beside a narrow passage keep the passage's own distance in ID
+(``InterpersonalCritic.passage_distance``): analytic corridors and the hallway it was built for."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+from socialnav.core.robot import PIONEER, PR2, RobotModel
+from socialnav.core.scene import Person, SocialContext
+from socialnav.planner.context import PlanningContext
+from socialnav.planner.critics.interpersonal import (
+    PERSONAL_DISTANCE,
+    InterpersonalCritic,
+    partner_thresholds,
+    passage_clearances,
+)
+from socialnav.world.costmap import add_obstacle_discs
+from socialnav.world.grid import GridGeometry
+from socialnav.world.inflation import inflate
+from socialnav.world.raster import rasterize
+
+HALF = 1.26  # corridor half width (m): generated hallway dev seed 181
+RES = 0.05
+
+
+def corridor_ctx(
+    people: tuple[Person, ...],
+    robot: RobotModel = PIONEER,
+    pose=(3.0, -0.18, 0.0),
+    half: float = HALF,
+) -> PlanningContext:
+    """A 2.52 m corridor along x, the plan down its middle-ish line, people as obstacles the
+    way the navigator marks them (their discs grown by half a cell diagonal, inflated)."""
+    geometry = GridGeometry((80, 320), RES, (0.0, -2.0))
+    walls = np.array([[[0.0, -half], [16.0, -half]], [[0.0, half], [16.0, half]]])
+    costmap = inflate(rasterize(geometry, segments=walls), geometry, robot.inscribed_radius)
+    social = SocialContext(people)
+    if people:
+        grown = social.radii() + RES * np.sqrt(2.0) / 2.0
+        discs = np.column_stack([social.positions(), grown])
+        costmap = add_obstacle_discs(costmap, discs, robot.inscribed_radius)
+    path = np.column_stack([np.linspace(pose[0], 13.0, 60), np.full(60, pose[1])])
+    return PlanningContext(
+        pose=np.asarray(pose, dtype=float),
+        velocity=np.zeros(3),
+        goal=np.array([13.0, pose[1], 0.0]),
+        global_path=path,
+        costmap=costmap,
+        robot=robot,
+        social=social,
+    )
+
+
+def free_edge(robot: RobotModel, half: float = HALF) -> float:
+    """Where the robot's centre can be nearest a wall (m from the corridor axis)."""
+    return half - robot.inscribed_radius
+
+
+def test_a_lone_person_is_passed_on_the_roomy_side():
+    """One person 1.07 m from one wall, 1.45 m from the other: the far side's room."""
+    ctx = corridor_ctx((Person(1, (5.0, -0.19)),), pose=(4.0, -0.18, 0.0))
+    room = passage_clearances(ctx, 1.5)
+    assert room[0] == pytest.approx(free_edge(PIONEER) + 0.19, abs=2 * RES)
+
+
+def test_a_pair_side_by_side_leaves_only_the_gap_by_the_wall():
+    """Dev seed 181: two people 0.69 m apart (no gap between them), 0.82 m from the wall."""
+    pair = (Person(1, (5.0, -0.19)), Person(2, (5.0, 0.5)))
+    ctx = corridor_ctx(pair, pose=(4.0, -0.18, 0.0))
+    room = passage_clearances(ctx, 1.5)
+    # the lower gap keeps the most from both: person 1 at the wall's free edge
+    assert room[0] == pytest.approx(free_edge(PIONEER) - 0.19, abs=2 * RES)
+    # person 2 is farther from that place than the threshold: no cap
+    assert room[1] > 1.5
+    own = partner_thresholds(ctx, 1.5, 0.05, passage=True, partners=False)
+    assert own[0] == pytest.approx(room[0] - 0.05)
+    assert own[1] == 1.5
+
+
+def test_a_wide_passage_keeps_the_personal_space():
+    """Where the passage leaves the 1.2 m personal space, the threshold stays above it: a
+    person in the middle of a 3.2 m corridor, 1.27 m from where a PR2's centre can be."""
+    half = 1.6
+    ctx = corridor_ctx((Person(1, (5.0, 0.0)),), robot=PR2, pose=(4.0, -0.5, 0.0), half=half)
+    room = passage_clearances(ctx, 1.5)
+    assert room[0] == pytest.approx(free_edge(PR2, half), abs=2 * RES)
+    own = partner_thresholds(ctx, 1.5, 0.05, passage=True, partners=False)
+    assert own[0] == pytest.approx(PERSONAL_DISTANCE + 0.05)
+    narrower = corridor_ctx((Person(1, (5.0, 0.0)),), robot=PR2, pose=(4.0, -0.5, 0.0), half=1.4)
+    assert partner_thresholds(narrower, 1.5, 0.05, passage=True, partners=False)[0] == (
+        pytest.approx(passage_clearances(narrower, 1.5)[0] - 0.05)
+    )
+
+
+def test_walkers_and_far_people_keep_the_threshold():
+    """Only people standing near the plan are looked at; without a plan nobody is."""
+    walker = Person(1, (5.0, -0.19), velocity=(-1.0, 0.0))
+    far = Person(2, (5.0, 3.5))  # beyond the wall, never near the plan
+    ctx = corridor_ctx((walker, far), pose=(4.0, -0.18, 0.0))
+    assert np.all(np.isinf(passage_clearances(ctx, 1.5)))
+    assert np.all(partner_thresholds(ctx, 1.5, 0.05, passage=True, partners=False) == 1.5)
+    no_plan = corridor_ctx((Person(1, (5.0, -0.19)),))
+    no_plan = dataclasses.replace(no_plan, global_path=np.zeros((0, 2)))
+    assert np.isinf(passage_clearances(no_plan, 1.5)[0])
+
+
+def test_a_walker_crossing_the_section_does_not_close_the_passage():
+    """A walker in the gap now walks on: the gap still counts."""
+    pair = (Person(1, (5.0, -0.19)), Person(2, (5.0, 0.5)))
+    alone = passage_clearances(corridor_ctx(pair, pose=(4.0, -0.18, 0.0)), 1.5)
+    walker = Person(3, (5.0, -0.95), velocity=(0.0, 1.0))  # in the gap by the wall now
+    crossed = passage_clearances(corridor_ctx((*pair, walker), pose=(4.0, -0.18, 0.0)), 1.5)
+    assert crossed[0] == pytest.approx(alone[0], abs=RES)
+
+
+def test_bug_id_rises_toward_the_closest_point_so_the_robot_crawls():
+    """Dev seed 181 (Pioneer): beside a pair standing 0.82 m from the wall, ID rose with every
+    step toward the closest point, so slower commands always scored better; the robot
+    crawled and the progress checker gave up there. With the passage's own distance, the
+    way through the gap costs nothing in ID until the robot leaves the gap's best line."""
+    pair = (Person(1, (5.0, -0.19)), Person(2, (5.0, 0.5)))
+    y = -free_edge(PIONEER)
+    ctx = corridor_ctx(pair, pose=(4.0, y, 0.0))
+    from test_social_critics import straight
+
+    ends = [(4.2, y), (4.6, y), (5.0, y)]  # slow, faster, fastest along the gap's line
+    trajs = straight(ends, start=(4.0, y))
+    plain = InterpersonalCritic(evaluation="max_over_time").score(trajs, ctx).cost
+    assert plain[0] < plain[1] < plain[2]  # the crawl: slower is always better
+    critic = InterpersonalCritic(evaluation="max_over_time", passage_distance=True)
+    assert np.all(critic.score(trajs, ctx).cost == 0.0)
+    inward = straight([(5.0, y + 0.2)], start=(4.0, y))  # toward the person: still costs
+    assert critic.score(inward, ctx).cost[0] > 0.0
+
+
+def test_bug_pioneer_crawled_beside_a_pair_standing_by_the_wall_until_the_time_limit():
+    """Generated hallway dev seed 181, Pioneer: a pair stands side by side 0.82 m from the
+    wall of a 2.52 m corridor, a third person just past them. The robot crawled into the gap
+    at 0.08 m/s, stopped 0.3 m from the pair, waited and timed out (76 s). Now it drives
+    through the gap and arrives."""
+    from socialnav.metrics.success import success_conditions
+    from socialnav.sim.generate import generate
+    from socialnav.sim.runner import run_episode
+    from socialnav.sim.stack import StackController
+
+    record = run_episode(
+        generate("hallway", 181), StackController("paccet"), "pioneer", seed=181
+    ).record
+    assert [c.name for c in success_conditions(record) if c.required and not c.passed] == []
+    assert float(record.times[-1]) < 40.0
