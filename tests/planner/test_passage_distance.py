@@ -7,11 +7,14 @@ import dataclasses
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from socialnav.core.robot import PIONEER, PR2, RobotModel
 from socialnav.core.scene import Person, SocialContext
 from socialnav.planner.context import PlanningContext
 from socialnav.planner.critics.interpersonal import (
+    PASSAGE_REACH,
     PERSONAL_DISTANCE,
     InterpersonalCritic,
     partner_thresholds,
@@ -151,3 +154,33 @@ def test_bug_pioneer_crawled_beside_a_pair_standing_by_the_wall_until_the_time_l
     ).record
     assert [c.name for c in success_conditions(record) if c.required and not c.passed] == []
     assert float(record.times[-1]) < 40.0
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    people=st.lists(
+        st.tuples(
+            st.floats(-3.0, 19.0),
+            st.floats(-4.0, 4.0),
+            st.sampled_from([0.0, 0.05, 1.0]),
+        ),
+        max_size=6,
+    ),
+    plan=st.lists(st.tuples(st.floats(-2.0, 18.0), st.floats(-3.0, 3.0)), max_size=4),
+    robot=st.sampled_from([PIONEER, PR2]),
+)
+def test_any_scene_gives_a_distance_or_inf_and_never_raises(people, plan, robot):
+    """People anywhere (on the plan, in walls, off the map), degenerate plans (none, one point,
+    repeated points): one value per person, finite and within the cross-section's reach, or
+    inf; walkers always inf."""
+    crowd = tuple(Person(i, (x, y), velocity=(v, 0.0)) for i, (x, y, v) in enumerate(people))
+    ctx = corridor_ctx(crowd, robot=robot, pose=(4.0, 0.0, 0.0))
+    ctx = dataclasses.replace(ctx, global_path=np.asarray(plan, dtype=float).reshape(-1, 2))
+    room = passage_clearances(ctx, 1.5)
+    assert room.shape == (len(crowd),)
+    finite = np.isfinite(room)
+    assert np.all((room[finite] >= 0.0) & (room[finite] <= PASSAGE_REACH + 1e-9))
+    walking = np.array([v >= 0.1 for _, _, v in people], dtype=bool)
+    assert not np.any(finite & walking)
+    own = partner_thresholds(ctx, 1.5, 0.05, passage=True, partners=False)
+    assert np.all((own > 0.0) & (own <= 1.5))

@@ -33,10 +33,12 @@ Deviations and choices:
   next ``PASSAGE_LOOKAHEAD`` m, beside a passage that allows less than ``threshold``
   (:func:`passage_clearances`), gets the passage's own distance less ``partner_margin`` as
   their threshold — at least ``PERSONAL_DISTANCE + partner_margin`` where the passage allows
-  the 1.2 m personal space — and their distance is scaled as for partners. Without it,
-  passing someone who stands 0.8 m from a wall costs more ID the farther the robot has
-  driven, up to the closest point, so every cycle a slower command scores better: the robot
-  crawled, and the progress checker gave up beside the person (generated hallway).
+  the 1.2 m personal space (which keeps the personal space where the estimate, at the
+  costmap's resolution, is a little short; between 1.2 and 1.25 m the robot then still pays
+  a small cost at the passage's far edge) — and their distance is scaled as for partners.
+  Without it, passing someone who stands 0.8 m from a wall costs more ID the farther the
+  robot has driven, up to the closest point, so every cycle a slower command scores better:
+  the robot crawled, and the progress checker gave up beside the person (generated hallway).
 - Passing distance (``hold_horizon`` s, 0 = off; ``max_over_time`` only): after the rollout the
   robot is assumed to stand at the trajectory's end point while people walk on at constant
   velocity for ``hold_horizon`` s, and the distance is the minimum over the rollout and that
@@ -220,11 +222,16 @@ def passage_clearances(ctx: PlanningContext, threshold: float) -> FloatArray:
     centre can pass, on the cross-section through them perpendicular to the plan, among the
     places that keep the most distance from every standing person; ``inf`` for everyone else.
 
-    The cross-section runs ``PASSAGE_REACH`` m to either side, through other people (a pair
-    standing side by side is passed on the side with room for both) but not through static
-    obstacles; a place is free where ``ctx.costmap`` is below INSCRIBED, or inside a walker's
-    own cells (they walk on) away from static obstacles. An estimate at the costmap's
-    resolution: exact for a straight corridor, the local section of the passage elsewhere."""
+    The cross-section runs ``PASSAGE_REACH`` m to either side (so no value exceeds it; values
+    of ``threshold`` or more mean no narrow passage), through other people (a pair standing
+    side by side is passed on the side with room for both) but not through static obstacles;
+    a place is free where ``ctx.costmap`` is below INSCRIBED, or inside a walker's own cells
+    (they walk on) away from static obstacles. An estimate, sampled at the costmap's
+    resolution (within about half a cell in a straight corridor; the local section of the
+    passage elsewhere). Places within one cell of the most distance count as keeping it, so
+    where both sides of a cross-section nearly tie, each person gets the side farther from
+    them. Without a plan of positive length, or nobody standing near it, all ``inf`` (the
+    option has no effect). Never raises for a well-typed context."""
     from socialnav.planner.critics.map_grid import densify_path
     from socialnav.world.grid import INSCRIBED, LETHAL
 
