@@ -100,7 +100,7 @@ from socialnav.planner import kernels
 from socialnav.planner.context import PlanningContext
 from socialnav.planner.critics.group import GroupCritic
 from socialnav.planner.critics.interpersonal import footprint_approaches
-from socialnav.planner.critics.map_grid import densify_path
+from socialnav.planner.critics.map_grid import densify_path, plan_ahead
 from socialnav.planner.critics.occupancy import OccupancyCritic
 from socialnav.planner.evasion import (
     closest_approach,
@@ -369,11 +369,9 @@ class RecoveringPlanner:
         if path.shape[0] < 2 or to_goal < p.rotation_shim_goal_distance:
             self._shim_armed = self._shim_turning = False
             return None
-        dense = densify_path(path, 0.05)
-        i = int(kernels.nearest_vertex(ctx.pose[None, :2], dense)[0])
-        ahead = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(dense[i:], axis=0).T))])
-        j = i + min(int(np.searchsorted(ahead, p.rotation_shim_lookahead)), ahead.size - 1)
-        dx, dy = dense[j] - ctx.pose[:2]
+        ahead, arc = plan_ahead(path, ctx.pose[:2])
+        j = min(int(np.searchsorted(arc, p.rotation_shim_lookahead)), arc.size - 1)
+        dx, dy = ahead[j] - ctx.pose[:2]
         err = float(wrap_angle(math.atan2(dy, dx) - ctx.pose[2]))
         if math.hypot(dx, dy) < PLAN_END:
             self._shim_armed = self._shim_turning = False

@@ -206,7 +206,9 @@ def passing_distances(
     return out
 
 
-#: people slower than this (m/s) stand (``passage_distance``)
+#: people slower than this (m/s) stand (``passage_distance``); stricter than the 0.3 m/s under
+#: which the global plan treats people as standing (``presets.MEETING_LAYER``): only people
+#: who really stand lower the threshold (0.3 was not measured)
 STANDING_SPEED = 0.1
 #: how much of the global plan ahead (m) ``passage_distance`` looks at
 PASSAGE_LOOKAHEAD = 3.0
@@ -232,7 +234,7 @@ def passage_clearances(ctx: PlanningContext, threshold: float) -> FloatArray:
     where both sides of a cross-section nearly tie, each person gets the side farther from
     them. Without a plan of positive length, or nobody standing near it, all ``inf`` (the
     option has no effect). Never raises for a well-typed context."""
-    from socialnav.planner.critics.map_grid import densify_path
+    from socialnav.planner.critics.map_grid import plan_ahead
     from socialnav.world.grid import INSCRIBED, LETHAL
 
     social = ctx.social
@@ -246,11 +248,8 @@ def passage_clearances(ctx: PlanningContext, threshold: float) -> FloatArray:
     standing = speed < STANDING_SPEED
     if not standing.any():
         return out
-    dense = densify_path(path, 0.05)
-    i = int(kernels.nearest_vertex(np.asarray(ctx.pose, dtype=float)[None, :2], dense)[0])
-    ahead = dense[i:]
-    s = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(ahead, axis=0).T))])
-    ahead = ahead[s <= PASSAGE_LOOKAHEAD]
+    ahead, arc = plan_ahead(path, np.asarray(ctx.pose, dtype=float)[:2])
+    ahead = ahead[arc <= PASSAGE_LOOKAHEAD]
     if ahead.shape[0] < 2:
         return out
     d = np.hypot(*(ahead[None] - pos[:, None]).transpose(2, 0, 1))  # (K, P)

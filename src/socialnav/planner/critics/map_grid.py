@@ -58,6 +58,18 @@ def densify_path(path: FloatArray, spacing: float) -> FloatArray:
     return np.stack([np.interp(q, s, path[:, 0]), np.interp(q, s, path[:, 1])], axis=1)
 
 
+def plan_ahead(
+    path: FloatArray, xy: FloatArray, spacing: float = 0.05
+) -> tuple[FloatArray, FloatArray]:
+    """The polyline ``path (P, 2)`` densified to ``spacing`` (m) from its point nearest ``xy
+    (2,)`` on: ``(ahead (A, 2), arc (A,))`` with ``arc`` the length along it from that point
+    (m, ``arc[0] == 0``). A path of fewer than 2 points is returned as is."""
+    dense = densify_path(path, spacing)
+    i = int(kernels.nearest_vertex(np.asarray(xy, dtype=float)[None, :2], dense)[0])
+    ahead = dense[i:]
+    return ahead, np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(ahead, axis=0).T))])
+
+
 def local_plan_cells(costmap: Costmap, path: FloatArray) -> NDArray[np.intp]:
     """``(K, 2)`` (row, col) cells of the first contiguous in-map, non-UNKNOWN stretch of the
     plan, in plan order (possibly empty)."""
