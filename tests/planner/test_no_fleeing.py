@@ -80,14 +80,39 @@ def test_no_rotation_shim_near_the_goal_and_none_later_after_it_declined():
 def test_a_turn_found_unsafe_is_tried_again_in_the_next_cycles():
     planner = _loop(PIONEER, RECOMMENDED_RECOVERY)
     assert _cycle(planner, PIONEER, (3.0, 2.0, 0.0), [_walker(6.0)]).status == "EVADING"
-    # Along a wall 0.23 m from its centre, the Pioneer (corners 0.29 m out) cannot turn on the
-    # spot; the evasion left it facing away from the plan.
-    wall = [[[0.0, 2.28], [12.0, 2.28]]]
-    blocked = _cycle(planner, PIONEER, (3.0, 2.0, np.pi), time=0.1, walls=wall)
-    assert blocked.status == PlannerStatus.OK
-    assert not np.allclose(blocked.cmd[:2], 0.0)  # the local planner's own command
+    # In a slot 0.56 m wide (walls 0.28 m either side of its centre), the Pioneer (corners
+    # 0.29 m out) can neither turn on the spot nor turn out; the evasion left it facing away.
+    slot = [[[0.0, 2.28], [12.0, 2.28]], [[0.0, 1.72], [12.0, 1.72]]]
+    blocked = _cycle(planner, PIONEER, (3.0, 2.0, np.pi), time=0.1, walls=slot)
+    assert blocked.status != PlannerStatus.ROTATING_TO_PLAN
     again = _cycle(planner, PIONEER, (3.0, 2.0, np.pi), time=0.2)  # room to turn now
     assert again.status == PlannerStatus.ROTATING_TO_PLAN
+    assert again.cmd[0] == 0.0  # on the spot
+
+
+def test_too_near_a_wall_to_turn_on_the_spot_it_turns_out_on_a_forward_arc():
+    """Along a wall 0.28 m from its centre, facing back (-x) with the plan ahead (+x), the
+    Pioneer's corners would sweep into the wall turning on the spot; it drives forward on the
+    arc that turns it away from the wall, then finishes the turn on the spot."""
+    planner = _loop(PIONEER, RECOMMENDED_RECOVERY)
+    assert _cycle(planner, PIONEER, (3.0, 2.0, 0.0), [_walker(6.0)]).status == "EVADING"
+    wall = [[[0.0, 2.28], [12.0, 2.28]]]
+    out = _cycle(planner, PIONEER, (3.0, 2.0, np.pi), time=0.1, walls=wall)
+    assert out.status == PlannerStatus.ROTATING_TO_PLAN and "turning out" in out.message
+    assert out.cmd[0] > 0.0 and out.cmd[1] == 0.0
+    assert out.cmd[2] > 0.0  # facing -x, turning left swings the nose away from the wall (+y)
+    # the same on the other side: a wall below, the arc turns right
+    low = _loop(PIONEER, RECOMMENDED_RECOVERY)
+    assert _cycle(low, PIONEER, (3.0, 2.0, 0.0), [_walker(6.0)]).status == "EVADING"
+    below = [[[0.0, 1.72], [12.0, 1.72]]]
+    mirrored = _cycle(low, PIONEER, (3.0, 2.0, -np.pi), time=0.1, walls=below)
+    assert mirrored.status == PlannerStatus.ROTATING_TO_PLAN and mirrored.cmd[2] < 0.0
+    # Out of the wall's way (0.78 m from it), facing -y: the rest of the turn is on the spot,
+    # and facing the plan the local planner takes over.
+    clear = _cycle(planner, PIONEER, (3.3, 1.5, -1.7), time=0.2, walls=wall)
+    assert clear.status == PlannerStatus.ROTATING_TO_PLAN and clear.cmd[0] == 0.0
+    done = _cycle(planner, PIONEER, (3.3, 1.5, 0.78), time=0.3, walls=wall)
+    assert done.status != PlannerStatus.ROTATING_TO_PLAN
 
 
 @pytest.mark.parametrize(
@@ -147,16 +172,20 @@ def test_every_entry_point_refuses_recovery_that_is_not_recovery_params():
     )
 
 
-def _hallway_155(recovery=None):
+def _hallway(seed: int, recovery=None):
     from socialnav.metrics.success import success_conditions
     from socialnav.sim.generate import generate
     from socialnav.sim.runner import run_episode
     from socialnav.sim.stack import StackController
 
     controller = StackController("paccet", recovery=recovery)
-    record = run_episode(generate("hallway", 155), controller, "pioneer", seed=155).record
+    record = run_episode(generate("hallway", seed), controller, "pioneer", seed=seed).record
     failed = [c.name for c in success_conditions(record) if c.required and not c.passed]
     return record, failed
+
+
+def _hallway_155(recovery=None):
+    return _hallway(155, recovery)
 
 
 def test_bug_pioneer_drove_ahead_of_a_walking_pair_to_the_corridors_end():
@@ -176,3 +205,15 @@ def test_the_same_hallway_times_out_with_both_rules_switched_off():
     record, failed = _hallway_155(off)
     assert "reached_goal" in failed
     assert float(record.robot_poses[:, 0].min()) < float(record.robot_poses[0, 0]) - 1.0
+
+
+def test_bug_pioneer_left_facing_back_along_a_wall_inched_until_the_time_limit():
+    """Generated hallway dev seed 38, Pioneer: giving way to two oncoming walkers left it
+    facing back down the corridor 0.24 m from a wall, too near to turn on the spot. The local
+    planner inched forward and back for a minute (every arc away from the wall also drives
+    away from the goal) and the run timed out at 70 s. Now the rotation shim turns it out on
+    a forward arc and it arrives."""
+    record, failed = _hallway(38)
+    assert failed == []
+    assert float(record.times[-1]) < 40.0
+    assert "ROTATING_TO_PLAN" in set(record.status)

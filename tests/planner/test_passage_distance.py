@@ -14,6 +14,7 @@ from socialnav.core.robot import PIONEER, PR2, RobotModel
 from socialnav.core.scene import Person, SocialContext
 from socialnav.planner.context import PlanningContext
 from socialnav.planner.critics.interpersonal import (
+    PASSAGE_COMMIT,
     PASSAGE_REACH,
     PERSONAL_DISTANCE,
     InterpersonalCritic,
@@ -81,6 +82,38 @@ def test_a_pair_side_by_side_leaves_only_the_gap_by_the_wall():
     own = partner_thresholds(ctx, 1.5, 0.05, passage=True, partners=False)
     assert own[0] == pytest.approx(room[0] - 0.05)
     assert own[1] == 1.5
+
+
+def test_a_robot_already_in_the_narrower_gap_keeps_to_its_room():
+    """A pair across the corridor leaves 0.82 m below and 0.51 m above. Approaching from afar,
+    person 2 is held to the lower gap's distance (beyond the threshold: no cap); within
+    PASSAGE_COMMIT m of them and beside them in the upper gap, to the upper gap's own room, so
+    the pass through it costs nothing in ID (dev seed 183, Pioneer: held to the lower gap's
+    distance there, it crawled and stalled). Neither gap keeps the 1.2 m personal space from
+    both, so the robot may commit. Below them, nothing changes."""
+    pair = (Person(1, (5.0, -0.19)), Person(2, (5.0, 0.5)))
+    upper = free_edge(PIONEER) - 0.5  # where the robot's centre keeps most from person 2
+    far = passage_clearances(corridor_ctx(pair, pose=(2.0, 1.0, 0.0)), 1.5)
+    assert far[1] > 1.5
+    near = passage_clearances(corridor_ctx(pair, pose=(5.0 - PASSAGE_COMMIT + 0.1, 1.0, 0.0)), 1.5)
+    assert near[1] == pytest.approx(upper, abs=RES)
+    assert near[0] == pytest.approx(free_edge(PIONEER) + 0.19, abs=2 * RES)  # the upper gap
+    abreast = passage_clearances(corridor_ctx(pair, pose=(5.0, 1.0, 0.0)), 1.5)
+    assert abreast[1] == pytest.approx(upper, abs=RES)
+    below = passage_clearances(corridor_ctx(pair, pose=(4.5, -0.9, 0.0)), 1.5)
+    assert below == pytest.approx(far, abs=RES)
+    # in line with the person (not beside them), both sides count as before
+    ahead = passage_clearances(corridor_ctx(pair, pose=(4.0, 0.5, 0.0)), 1.5)
+    assert ahead[1] > 1.5
+
+
+def test_no_commitment_to_a_gap_that_intrudes_when_the_other_side_keeps_the_space():
+    """Person 2 alone: the lower side keeps 1.57 m from them, the upper gap 0.57 m. A robot in
+    the upper gap is not held to 0.57 m: the way round keeps the personal space, and ID's
+    crawl makes it stop and replan (dev seed 107, Pioneer: committed, it passed at 1.06 m)."""
+    alone = (Person(2, (5.0, 0.5)),)
+    near = passage_clearances(corridor_ctx(alone, pose=(4.0, 1.0, 0.0)), 1.5)
+    assert near[0] > 1.5
 
 
 def test_a_wide_passage_keeps_the_personal_space():
@@ -154,6 +187,24 @@ def test_bug_pioneer_crawled_beside_a_pair_standing_by_the_wall_until_the_time_l
     ).record
     assert [c.name for c in success_conditions(record) if c.required and not c.passed] == []
     assert float(record.times[-1]) < 40.0
+
+
+def test_bug_pioneer_stalled_in_the_narrower_gap_beside_a_pair():
+    """Generated hallway dev seed 183, Pioneer: a pair stands across a 2.65 m corridor,
+    leaving 0.77 m on one side and 0.61 m on the other. Giving way to a walker from behind put
+    the robot, and its plan, on the narrower side; held to the wider side's distance, it
+    crawled into the gap at 0.05 m/s and stalled 0.08 m from the person until the time limit.
+    Now it drives through and arrives."""
+    from socialnav.metrics.success import success_conditions
+    from socialnav.sim.generate import generate
+    from socialnav.sim.runner import run_episode
+    from socialnav.sim.stack import StackController
+
+    record = run_episode(
+        generate("hallway", 183), StackController("paccet"), "pioneer", seed=183
+    ).record
+    assert [c.name for c in success_conditions(record) if c.required and not c.passed] == []
+    assert float(record.times[-1]) < 35.0
 
 
 @settings(max_examples=60, deadline=None)

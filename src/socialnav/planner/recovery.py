@@ -63,8 +63,16 @@ Behaviour (parameters in :class:`RecoveryParams`, ROS/Nav2 names, budgets in sec
   planner left facing away keeps driving that way while walkers follow (its interpersonal
   objective rewards the distance). It does not act within ``rotation_shim_goal_distance`` m
   (straight line) of the goal (the goal handling turns the robot there) or at the plan's end
-  (its point within 0.2 m); a turn found unsafe (checked as the recoveries' steps are) is
-  tried again in the next cycles, until the robot faces the plan or another evasion begins.
+  (its point within 0.2 m). Where the in-place turn is unsafe (checked as the recoveries'
+  steps are: a corner would sweep into a wall), it turns out on a forward arc instead, as a
+  driver leaves a parking space: the tightest of ``TURN_OUT_ARCS`` that is safe until it
+  faces the plan (at most ``TURN_OUT_CHECK`` s) and keeps everyone farther than
+  ``evasion_personal_distance`` and out of contact, turning toward the plan first, else the
+  other way round; with none, the shim tries again in the next
+  cycles, until the robot faces the plan or another evasion begins. Without the arc, a
+  Pioneer left facing back along a wall only inched forward and back until the time limit,
+  since every arc away from the wall also drives away from the goal (generated hallway dev
+  seeds 38, 129 and 169).
 - **Waiting** (status ``WAITING``, zero command; the navigator decelerates it within the
   acceleration limits and replans): when no trajectory is legal, or the legal ones make no
   progress, and a person blocks: within ``person_blocking_distance`` m (footprint circle to
@@ -127,6 +135,11 @@ APPROACH_SPEED = 0.02
 APPROACH_HORIZON = 1.0
 #: the rotation shim's plan point nearer than this (m): the robot is at the plan's end
 PLAN_END = 0.2
+#: the rotation shim's turn-out arcs, in the order tried: (fraction of max_vel_x, fraction of
+#: max_vel_theta), the tightest first
+TURN_OUT_ARCS = ((0.5, 1.0), (1.0, 1.0), (1.0, 0.5))
+#: how long (s) a turn-out arc is checked for safety at most
+TURN_OUT_CHECK = 2.0
 
 
 @dataclass(frozen=True)
@@ -383,10 +396,46 @@ class RecoveringPlanner:
         twist = np.array([0.0, 0.0, w])
         if not self._safe(ctx, twist, min(abs(err) / abs(w), 1.0)):
             self._shim_turning = False  # armed still: the turn may become safe
-            return None
+            out_arc = self._turn_out(ctx, err)
+            if out_arc is None:
+                return None
+            why = f"turning out toward the plan ({err:+.2f} rad off) after evading"
+            return self._out(out_arc, PlannerStatus.ROTATING_TO_PLAN, result.record, why)
         self._shim_turning = True
         why = f"rotating to the plan ({err:+.2f} rad off) after evading"
         return self._out(twist, PlannerStatus.ROTATING_TO_PLAN, result.record, why)
+
+    def _turn_out(self, ctx: PlanningContext, err: float) -> FloatArray | None:
+        """A forward arc toward the plan (``err`` rad off) where turning in place is unsafe:
+        the first of ``TURN_OUT_ARCS`` turning toward the plan, then away, that is safe until
+        it faces the plan (at most ``TURN_OUT_CHECK`` s) and keeps everyone's distance
+        (:meth:`_keeps_space`); None when none is."""
+        r = self.robot
+        toward = math.copysign(1.0, err)
+        for sign in (toward, -toward):
+            angle = abs(err) if sign == toward else 2.0 * math.pi - abs(err)
+            for speed, rate in TURN_OUT_ARCS:
+                w = rate * r.max_vel_theta
+                twist = np.array([speed * r.max_vel_x, 0.0, sign * w])
+                duration = min(angle / w, TURN_OUT_CHECK)
+                if self._safe(ctx, twist, duration) and self._keeps_space(ctx, twist, duration):
+                    return twist
+        return None
+
+    def _keeps_space(self, ctx: PlanningContext, twist: FloatArray, duration: float) -> bool:
+        """Whether ``twist`` held for ``duration`` s keeps everyone (forecast at constant
+        velocity) beyond ``evasion_personal_distance`` (centre to centre) and out of contact:
+        with someone nearer, the evasion or the local planner decides, not a turn-out that
+        drives on (recorded crowds: a turn-out beside someone touching the robot became an
+        active contact)."""
+        if not ctx.social.people:
+            return True
+        pos, vel, radii = ctx.social.positions(), ctx.social.velocities(), ctx.social.radii()
+        trajs = rollout(ctx.pose, ctx.velocity, twist[None], self.robot, RolloutParams(duration))
+        gaps = person_gap_minima(trajs, self.robot, pos, vel, radii)[0]
+        r = self.robot.circumscribed_radius
+        space = np.maximum(self.params.evasion_personal_distance - radii - r, 0.0)
+        return bool(np.all(gaps > space))
 
     def _blocking_person(self, ctx: PlanningContext) -> tuple[int, float] | None:
         """``(index, gap m)`` of the person blocking the robot (module docstring), or None."""

@@ -39,6 +39,8 @@ Deviations and choices:
   Without it, passing someone who stands 0.8 m from a wall costs more ID the farther the
   robot has driven, up to the closest point, so every cycle a slower command scores better:
   the robot crawled, and the progress checker gave up beside the person (generated hallway).
+  A robot already beside the person, within ``PASSAGE_COMMIT`` m of them along the plan,
+  keeps its own side's room, unless only the other side keeps ``PERSONAL_DISTANCE``.
 - Passing distance (``hold_horizon`` s, 0 = off; ``max_over_time`` only): after the rollout the
   robot is assumed to stand at the trajectory's end point while people walk on at constant
   velocity for ``hold_horizon`` s, and the distance is the minimum over the rollout and that
@@ -216,6 +218,9 @@ PASSAGE_LOOKAHEAD = 3.0
 PERSONAL_DISTANCE = 1.2
 #: how far (m) to either side of a standing person the passage is looked at
 PASSAGE_REACH = 3.0
+#: within this distance (m) of a person's cross-section, along the plan, a robot already
+#: beside them keeps to its own side's room (``passage_clearances``)
+PASSAGE_COMMIT = 1.5
 
 
 def passage_clearances(ctx: PlanningContext, threshold: float) -> FloatArray:
@@ -232,8 +237,18 @@ def passage_clearances(ctx: PlanningContext, threshold: float) -> FloatArray:
     resolution (within about half a cell in a straight corridor; the local section of the
     passage elsewhere). Places within one cell of the most distance count as keeping it, so
     where both sides of a cross-section nearly tie, each person gets the side farther from
-    them. Without a plan of positive length, or nobody standing near it, all ``inf`` (the
-    option has no effect). Never raises for a well-typed context."""
+    them. A robot within ``PASSAGE_COMMIT`` m of the cross-section (along the plan) and beside
+    the person (its centre more than their radius plus its inscribed radius to one side) is
+    committed to its side: only that side's places count, when it has any, unless the other
+    side has a place that keeps ``PERSONAL_DISTANCE`` from everyone standing and its own side
+    has none (the robot is better off going round; the crawl makes it stop and replan:
+    generated hallway dev seed 107, Pioneer, passed 1.06 m from a person when committed
+    there, 1.33 m without). Without this, a robot that went into the narrower
+    of two gaps (after giving way to a walker, say) was held to the wider gap's distance and
+    crawled against ID until it stalled (generated hallway dev seed 183, Pioneer). Without a
+    plan of positive length, or nobody standing
+    near it, all ``inf`` (the option has no effect). Never raises for a well-typed
+    context."""
     from socialnav.planner.critics.map_grid import plan_ahead
     from socialnav.world.grid import INSCRIBED, LETHAL
 
@@ -296,11 +311,32 @@ def passage_clearances(ctx: PlanningContext, threshold: float) -> FloatArray:
     idx = np.arange(t.size)
     free &= (idx >= first[:, None]) & (idx < stop[:, None])
     has = free.any(axis=1)
-    best_d = np.where(free, to_still, -np.inf).max(axis=1, initial=-np.inf)  # (P,)
-    best = free & (to_still >= best_d[:, None] - res)
-    room = np.where(best, np.abs(t), -np.inf).max(axis=1, initial=-np.inf)
+    room, kept = _room(free, to_still, t, res)
+    # a robot already beside the person, near the cross-section, keeps to its side's room,
+    # unless only the other side keeps the personal space
+    rel = np.asarray(ctx.pose, dtype=float)[:2] - pos[todo]  # (P, 2)
+    lateral = (rel * normal).sum(axis=1)
+    along = (rel * tangent).sum(axis=1) / norm
+    beside = (np.abs(along) <= PASSAGE_COMMIT) & (np.abs(lateral) >= radii[todo] + inscribed)
+    if beside.any():
+        own_side = free & (np.sign(lateral)[:, None] * t[None, :] > 0)
+        own, _ = _room(own_side, to_still, t, res)
+        commit = (own >= PERSONAL_DISTANCE) | (kept < PERSONAL_DISTANCE)
+        room = np.where(beside & own_side.any(axis=1) & commit, own, room)
     out[todo[has]] = room[has]
     return out
+
+
+def _room(
+    free: NDArray[np.bool_], to_still: FloatArray, t: FloatArray, res: float
+) -> tuple[FloatArray, FloatArray]:
+    """Per cross-section ``(P,)``: the most distance ``to_still (P, S)`` from everyone standing
+    that its ``free`` places ``(P, S)`` keep, and the largest ``|t|`` among the places within
+    ``res`` of it (the person's room); ``(room, kept)``, ``-inf`` without a free place."""
+    kept = np.where(free, to_still, -np.inf).max(axis=1, initial=-np.inf)
+    best = free & (to_still >= kept[:, None] - res)
+    room: FloatArray = np.where(best, np.abs(t), -np.inf).max(axis=1, initial=-np.inf)
+    return room, kept
 
 
 @lru_cache(maxsize=8)
