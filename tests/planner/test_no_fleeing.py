@@ -107,6 +107,14 @@ def test_too_near_a_wall_to_turn_on_the_spot_it_turns_out_on_a_forward_arc():
     below = [[[0.0, 1.72], [12.0, 1.72]]]
     mirrored = _cycle(low, PIONEER, (3.0, 2.0, -np.pi), time=0.1, walls=below)
     assert mirrored.status == PlannerStatus.ROTATING_TO_PLAN and mirrored.cmd[2] < 0.0
+    # An arc is followed while the robot faces more than the threshold (pi/2) away; within
+    # it, the local planner takes over (1.35 rad off here, with room to turn).
+    handed = _loop(PIONEER, RECOMMENDED_RECOVERY)
+    assert _cycle(handed, PIONEER, (3.0, 2.0, 0.0), [_walker(6.0)]).status == "EVADING"
+    assert _cycle(handed, PIONEER, (3.0, 2.0, np.pi), time=0.1, walls=wall).cmd[0] > 0.0
+    assert _cycle(handed, PIONEER, (3.0, 1.3, -0.4), time=0.2).status != (
+        PlannerStatus.ROTATING_TO_PLAN
+    )
     # Out of the wall's way (0.78 m from it), facing -y: the rest of the turn is on the spot,
     # and facing the plan the local planner takes over.
     clear = _cycle(planner, PIONEER, (3.3, 1.5, -1.7), time=0.2, walls=wall)

@@ -63,16 +63,17 @@ Behaviour (parameters in :class:`RecoveryParams`, ROS/Nav2 names, budgets in sec
   planner left facing away keeps driving that way while walkers follow (its interpersonal
   objective rewards the distance). It does not act within ``rotation_shim_goal_distance`` m
   (straight line) of the goal (the goal handling turns the robot there) or at the plan's end
-  (its point within 0.2 m). Where the in-place turn is unsafe (checked as the recoveries'
-  steps are: a corner would sweep into a wall), it turns out on a forward arc instead, as a
-  driver leaves a parking space: the tightest of ``TURN_OUT_ARCS`` that is safe until it
-  faces the plan (at most ``TURN_OUT_CHECK`` s) and keeps everyone farther than
-  ``evasion_personal_distance`` and out of contact, turning toward the plan first, else the
-  other way round; with none, the shim tries again in the next
-  cycles, until the robot faces the plan or another evasion begins. Without the arc, a
-  Pioneer left facing back along a wall only inched forward and back until the time limit,
-  since every arc away from the wall also drives away from the goal (generated hallway dev
-  seeds 38, 129 and 169).
+  (its point within 0.2 m). Where the in-place turn is unsafe (checked as the recoveries' steps
+  are: a corner would sweep into a wall), it turns out on a forward arc instead, as a driver
+  leaves a parking space: the tightest of ``TURN_OUT_ARCS`` that is safe until it faces the plan
+  (at most ``TURN_OUT_CHECK`` s) and keeps everyone farther than ``evasion_personal_distance``
+  and out of contact, turning toward the plan first, else the other way round; with none, the
+  shim tries again in the next cycles, until the robot faces the plan or another evasion begins.
+  An arc is followed while the robot faces more than ``rotation_shim_threshold`` away (it turns
+  the robot at speed); within it, the local planner takes over, as after a turn on the spot that
+  stays unsafe. Without the arc, a Pioneer left facing back along a wall only inched forward and
+  back until the time limit, since every arc away from the wall also drives away from the goal
+  (generated hallway dev seeds 38, 129 and 169).
 - **Waiting** (status ``WAITING``, zero command; the navigator decelerates it within the
   acceleration limits and replans): when no trajectory is legal, or the legal ones make no
   progress, and a person blocks: within ``person_blocking_distance`` m (footprint circle to
