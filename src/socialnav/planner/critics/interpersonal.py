@@ -229,26 +229,26 @@ def passage_clearances(ctx: PlanningContext, threshold: float) -> FloatArray:
     centre can pass, on the cross-section through them perpendicular to the plan, among the
     places that keep the most distance from every standing person; ``inf`` for everyone else.
 
-    The cross-section runs ``PASSAGE_REACH`` m to either side (so no value exceeds it; values
-    of ``threshold`` or more mean no narrow passage), through other people (a pair standing
-    side by side is passed on the side with room for both) but not through static obstacles
-    (a blocked place with a static LETHAL cell, not a person's, within the robot's inscribed
-    radius; so also a wall inside a person's own inflation); a place is free where
-    ``ctx.costmap`` is below INSCRIBED, or inside a walker's own cells (they walk on) away from
-    static obstacles. An estimate, sampled at the costmap's resolution (within about half a cell
-    in a straight corridor; the local section of the passage elsewhere). Places within one cell
-    of the most distance count as keeping it, so where both sides of a cross-section nearly tie,
-    each person gets the side farther from them. A robot within ``PASSAGE_COMMIT`` m of the
-    cross-section (along the plan, before or past it) and beside the person (its centre at least
-    their radius plus its inscribed radius to one side) is committed to its side: only that
-    side's places count, when it has any, unless the other side has a place that keeps
-    ``PERSONAL_DISTANCE`` from everyone standing and its own side has none (the robot is better
-    off going round; the crawl makes it stop and replan: generated hallway dev seed 107,
-    Pioneer, passed 1.06 m from a person when committed there, 1.33 m without). Without this, a
-    robot that went into the narrower of two gaps (after giving way to a walker, say) was held
-    to the wider gap's distance and crawled against ID until it stalled (generated hallway dev
-    seed 183, Pioneer). Without a plan of positive length, or nobody standing near it, all
-    ``inf`` (the option has no effect). Never raises for a well-typed context."""
+    The cross-section runs ``PASSAGE_REACH`` m to either side (so no value exceeds it; values of
+    ``threshold`` or more mean no narrow passage), through other people (a pair standing side by
+    side is passed on the side with room for both) but not through static obstacles (a blocked
+    place next to a LETHAL cell that is not a person's; so also a wall inside a person's own
+    inflation); a place is free where ``ctx.costmap`` is below INSCRIBED, or inside a walker's
+    own cells (they walk on) away from static obstacles. An estimate, sampled at the costmap's
+    resolution (within about half a cell in a straight corridor; the local section of the
+    passage elsewhere). Places within one cell of the most distance count as keeping it, so
+    where both sides of a cross-section nearly tie, each person gets the side farther from them.
+    A robot within ``PASSAGE_COMMIT`` m of the cross-section (along the plan, before or past it)
+    and beside the person (its centre at least their radius plus its inscribed radius to one
+    side) is committed to its side: only that side's places count, when it has any, unless the
+    other side has a place that keeps ``PERSONAL_DISTANCE`` from everyone standing and its own
+    side has none (the robot is better off going round; the crawl makes it stop and replan:
+    generated hallway dev seed 107, Pioneer, passed 1.06 m from a person when committed there,
+    1.33 m without). Without this, a robot that went into the narrower of two gaps (after giving
+    way to a walker, say) was held to the wider gap's distance and crawled against ID until it
+    stalled (generated hallway dev seed 183, Pioneer). Without a plan of positive length, or
+    nobody standing near it, all ``inf`` (the option has no effect). Never raises for a
+    well-typed context."""
     from socialnav.planner.critics.map_grid import plan_ahead
     from socialnav.world.grid import INSCRIBED, LETHAL
 
@@ -291,26 +291,29 @@ def passage_clearances(ctx: PlanningContext, threshold: float) -> FloatArray:
     pts = pos[todo, None, :] + t[None, :, None] * normal[:, None, :]  # (P, S, 2)
     free = cm.cost_at(pts) < INSCRIBED
     to_still = np.hypot(*(pts[:, :, None] - still).transpose(3, 0, 1, 2)).min(axis=-1)
-    # A blocked place is a wall when a static LETHAL cell (not a person's own) is within the
-    # inscribed radius; a place blocked only by people is not (a person standing 0.4 m from
-    # a wall has the wall inside their inflation: it still ends the cross-section there).
-    to_people = np.hypot(*(pts[:, :, None] - pos).transpose(3, 0, 1, 2))  # (P, S, K)
-    near = ~free & (to_people <= radii + inscribed + 2 * res).any(axis=-1)
+    if walkers.size:
+        to_walkers = np.hypot(*(pts[:, :, None] - pos[walkers]).transpose(3, 0, 1, 2))
+        near = (to_walkers <= radii[walkers] + inscribed + 2 * res).any(axis=-1) & ~free
+        if near.any():  # free unless a static LETHAL cell is within the inscribed radius
+            dr, dc = _disc_offsets(inscribed, res)
+            rc = cm.geometry.world_to_cell(pts[near])  # (Q, 2)
+            cells = np.stack([rc[:, None, 0] + dr, rc[:, None, 1] + dc], axis=-1)  # (Q, M, 2)
+            world = np.asarray(cm.geometry.origin) + (cells[..., ::-1] + 0.5) * res
+            lethal = cm.cost_at(world) >= LETHAL  # (Q, M)
+            to_walker = np.hypot(*(world[:, :, None] - pos[walkers]).transpose(3, 0, 1, 2))
+            mine = (to_walker <= radii[walkers] + res).any(axis=-1)
+            free[near] = ~(lethal & ~mine).any(axis=1)
+    # Static obstacles end a cross-section on either side of the person; people do not. A
+    # blocked place near someone standing is a wall only next to a LETHAL cell that is not a
+    # person's own: a wall inside their inflation ends the cross-section too.
+    near = ~free & (to_still <= radii.max() + inscribed + 2 * res)
     wall = ~free & ~near
     if near.any():
-        dr, dc = _disc_offsets(inscribed, res)
-        rc = cm.geometry.world_to_cell(pts[near])  # (Q, 2)
-        cells = np.stack([rc[:, None, 0] + dr, rc[:, None, 1] + dc], axis=-1)  # (Q, M, 2)
-        world = np.asarray(cm.geometry.origin) + (cells[..., ::-1] + 0.5) * res
-        lethal = cm.cost_at(world) >= LETHAL  # (Q, M)
+        rc = cm.geometry.world_to_cell(pts[near])[:, None, :] + _NEIGHBOURS  # (Q, 9, 2)
+        world = np.asarray(cm.geometry.origin) + (rc[..., ::-1] + 0.5) * res
+        lethal = cm.cost_at(world) >= LETHAL  # (Q, 9)
         own = np.hypot(*(world[:, :, None] - pos).transpose(3, 0, 1, 2)) <= radii + res
         wall[near] = (lethal & ~own.any(axis=-1)).any(axis=1)
-        if walkers.size:  # walkers walk on: a place blocked only by them is free
-            reach = radii[walkers] + inscribed + 2 * res
-            by_walker = (to_people[near][:, walkers] <= reach).any(axis=-1)  # (Q,)
-            unblocked = ~(lethal & ~own[..., walkers].any(axis=-1)).any(axis=1)
-            free[near] = np.where(by_walker, unblocked, free[near])
-    # static obstacles end a cross-section on either side of the person; people do not
     up, down = wall[:, middle:], wall[:, middle::-1]
     stop = np.where(up.any(axis=1), middle + up.argmax(axis=1), t.size)  # (P,) exclusive
     first = np.where(down.any(axis=1), middle - down.argmax(axis=1) + 1, 0)
@@ -343,6 +346,10 @@ def _room(
     best = free & (to_still >= kept[:, None] - res)
     room: FloatArray = np.where(best, np.abs(t), -np.inf).max(axis=1, initial=-np.inf)
     return room, kept
+
+
+#: a cell and its 8 neighbours, as (row, col) offsets
+_NEIGHBOURS = np.array([(i, j) for i in (-1, 0, 1) for j in (-1, 0, 1)])
 
 
 @lru_cache(maxsize=8)
