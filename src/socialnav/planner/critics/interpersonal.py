@@ -95,6 +95,7 @@ from socialnav.core.trajectories import Trajectories
 from socialnav.planner import kernels
 from socialnav.planner.cache import PeopleDistances
 from socialnav.planner.critics.base import CRITICS, Critic, CriticScore
+from socialnav.world.grid import INSCRIBED, LETHAL, Costmap
 
 if TYPE_CHECKING:
     from socialnav.planner.context import PlanningContext
@@ -250,7 +251,6 @@ def passage_clearances(ctx: PlanningContext, threshold: float) -> FloatArray:
     nobody standing near it, all ``inf`` (the option has no effect). Never raises for a
     well-typed context."""
     from socialnav.planner.critics.map_grid import plan_ahead
-    from socialnav.world.grid import INSCRIBED, LETHAL
 
     social = ctx.social
     k = len(social.people)
@@ -294,26 +294,16 @@ def passage_clearances(ctx: PlanningContext, threshold: float) -> FloatArray:
     if walkers.size:
         to_walkers = np.hypot(*(pts[:, :, None] - pos[walkers]).transpose(3, 0, 1, 2))
         near = (to_walkers <= radii[walkers] + inscribed + 2 * res).any(axis=-1) & ~free
-        if near.any():  # free unless a static LETHAL cell is within the inscribed radius
-            dr, dc = _disc_offsets(inscribed, res)
-            rc = cm.geometry.world_to_cell(pts[near])  # (Q, 2)
-            cells = np.stack([rc[:, None, 0] + dr, rc[:, None, 1] + dc], axis=-1)  # (Q, M, 2)
-            world = np.asarray(cm.geometry.origin) + (cells[..., ::-1] + 0.5) * res
-            lethal = cm.cost_at(world) >= LETHAL  # (Q, M)
-            to_walker = np.hypot(*(world[:, :, None] - pos[walkers]).transpose(3, 0, 1, 2))
-            mine = (to_walker <= radii[walkers] + res).any(axis=-1)
-            free[near] = ~(lethal & ~mine).any(axis=1)
+        if near.any():  # free unless a LETHAL cell not theirs is within the inscribed radius
+            offsets = _disc_offsets(inscribed, res)
+            free[near] = ~_foreign_lethal(cm, pts[near], offsets, pos[walkers], radii[walkers])
     # Static obstacles end a cross-section on either side of the person; people do not. A
     # blocked place near someone standing is a wall only next to a LETHAL cell that is not a
     # person's own: a wall inside their inflation ends the cross-section too.
     near = ~free & (to_still <= radii.max() + inscribed + 2 * res)
     wall = ~free & ~near
     if near.any():
-        rc = cm.geometry.world_to_cell(pts[near])[:, None, :] + _NEIGHBOURS  # (Q, 9, 2)
-        world = np.asarray(cm.geometry.origin) + (rc[..., ::-1] + 0.5) * res
-        lethal = cm.cost_at(world) >= LETHAL  # (Q, 9)
-        own = np.hypot(*(world[:, :, None] - pos).transpose(3, 0, 1, 2)) <= radii + res
-        wall[near] = (lethal & ~own.any(axis=-1)).any(axis=1)
+        wall[near] = _foreign_lethal(cm, pts[near], _NEIGHBOURS, pos, radii)
     up, down = wall[:, middle:], wall[:, middle::-1]
     stop = np.where(up.any(axis=1), middle + up.argmax(axis=1), t.size)  # (P,) exclusive
     first = np.where(down.any(axis=1), middle - down.argmax(axis=1) + 1, 0)
@@ -348,8 +338,29 @@ def _room(
     return room, kept
 
 
-#: a cell and its 8 neighbours, as (row, col) offsets
-_NEIGHBOURS = np.array([(i, j) for i in (-1, 0, 1) for j in (-1, 0, 1)])
+#: a cell and its 8 neighbours, as (rows, cols) offsets
+_NEIGHBOURS = (np.repeat(np.arange(-1, 2), 3), np.tile(np.arange(-1, 2), 3))
+
+
+def _foreign_lethal(
+    cm: Costmap,
+    places: FloatArray,
+    offsets: tuple[NDArray[np.intp], NDArray[np.intp]],
+    people: FloatArray,
+    radii: FloatArray,
+) -> NDArray[np.bool_]:
+    """``(Q,)`` whether a LETHAL cell of ``cm`` lies at ``offsets`` (rows, cols) around the cell
+    of each of ``places (Q, 2)`` (m, world) that is not one of ``people (K, 2)``'s own (its
+    centre within their radius ``radii (K,)`` plus a cell)."""
+    res = cm.resolution
+    rc = cm.geometry.world_to_cell(places)  # (Q, 2)
+    dr, dc = offsets
+    cells = np.stack([rc[:, None, 0] + dr, rc[:, None, 1] + dc], axis=-1)  # (Q, M, 2)
+    world = np.asarray(cm.geometry.origin) + (cells[..., ::-1] + 0.5) * res
+    lethal = cm.cost_at(world) >= LETHAL  # (Q, M)
+    own = np.hypot(*(world[:, :, None] - people).transpose(3, 0, 1, 2)) <= radii + res
+    found: NDArray[np.bool_] = (lethal & ~own.any(axis=-1)).any(axis=1)
+    return found
 
 
 @lru_cache(maxsize=8)
