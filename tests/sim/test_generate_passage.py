@@ -180,3 +180,31 @@ def test_a_hallway_start_no_robot_gets_through_at_1_2_m_is_not_required():
     assert override.required is False and "first 4 s" in (override.reason or "")
     assert scn.feasibility["pr2"]["personal_space_feasible"] is True
     assert "pr2" not in scn.success["no_personal_space_intrusion"].per_robot
+
+
+def stand(pid: int, x: float, y: float) -> PersonSpec:
+    return PersonSpec(id=pid, position=(x, y), behavior=Stand())
+
+
+def test_people_standing_one_behind_the_other_can_close_the_corridor():
+    """Reporting seed 10164: two people standing 0.4 m apart along a 2.43 m corridor, one on
+    each side of the middle. Beside each alone a PR2 passes (1.25 m of room below the first);
+    together they leave 0.73 m above the first, 0.40 m between them and 0.60 m below the
+    second, against the PR2's 0.67 m + 0.1 m. The scene counted as feasible and the PR2 waited
+    beside them until the time limit."""
+    from socialnav.sim.generate.hallway import _standing_passage
+
+    width = 2.426
+    pair = corridor([stand(1, 7.966, 0.287), stand(3, 8.369, -0.409)], width)
+    w_pr2, w_pioneer = half_width(PR2), half_width(PIONEER)
+    assert not _standing_passage(pair, PR2, w_pr2)
+    assert _standing_passage(pair, PIONEER, w_pioneer)  # 0.73 m is room for the Pioneer
+    for alone in ([stand(1, 7.966, 0.287)], [stand(3, 8.369, -0.409)]):
+        assert _standing_passage(corridor(alone, width), PR2, w_pr2)
+    # the per-unit rule's own limit is kept: 1 cm more than width + 0.1 m beside one person
+    y = -width / 2 + 2 * w_pr2 + 0.1 + 0.01 + 0.25
+    assert _standing_passage(corridor([stand(1, 8.0, y)], width), PR2, w_pr2)
+    scn = generate("hallway", 10164)  # now drawn again: a way through for both robots
+    for robot in (PR2, PIONEER):
+        assert _standing_passage(scn, robot, half_width(robot))
+    assert [p.behavior.type for p in scn.people] == ["walk", "walk"]

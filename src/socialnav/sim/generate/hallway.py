@@ -11,7 +11,8 @@ half width ``w`` limits it to ``|y| <= W/2 − w − 0.05``):
 - ``corridor_width``: ``W`` (m);
 - ``max_clearance_<id>``: the largest centre-to-centre distance from person ``id`` the corridor
   allows while passing (for a side-by-side pair, on the side that is best for both);
-- ``passage``: a gap of at least the robot's width + 0.1 m exists beside every unit;
+- ``passage``: a gap of at least the robot's width + 0.1 m exists beside every unit, and a
+  way through everyone standing at once (units one behind the other can close the corridor);
 - ``joint_clearance``: the largest distance from *every* person at once that a path to the goal
   can keep, walkers' timing included (:func:`~socialnav.sim.generate._passage.joint_clearance`,
   capped at 3 m; generous to the robot, so it may exceed a per-person bound by up to half a
@@ -153,6 +154,8 @@ def draw(rng: np.random.Generator, name: str) -> Scenario:
                 facts[f"max_clearance_{ids[k]}"] = r3(best)
                 k += 1
             worst = min(worst, best)
+        if not _standing_passage(scn, robot, w):
+            raise Infeasible(f"{robot_name}: no passage through the people standing together")
         facts["passage"] = True
         joint = _joint(scn, robot, y_lim)
         if joint < HUMAN_RADIUS + robot.inscribed_radius or not can_avoid_collision(scn, robot):
@@ -193,6 +196,24 @@ def draw(rng: np.random.Generator, name: str) -> Scenario:
             "feasibility": feasibility,
         }
     )
+
+
+def _standing_passage(scn: Scenario, robot: RobotModel, w: float) -> bool:
+    """The robot centre, kept ``w + 0.05`` m (``w``: the footprint's half width) from walls
+    and from everyone standing, joins start and goal: the per-unit rule above, for all units
+    at once. Two units whose roomy sides do not line up (one near each wall, 0.4 m apart along
+    the corridor) each leave a passage alone and none together (reporting seed 10164: a PR2
+    waited beside them until the time limit). The grid (``CHECK_RESOLUTION``) gives half a
+    cell to the robot, so that it only adds what the per-unit rule cannot see."""
+    space = FreeSpace(scn, robot, people=False)
+    xs, ys = space.geometry.cell_centers()
+    need = w + CLEARANCE_MARGIN - space.geometry.resolution / 2
+    free = space.clearance > need
+    for p in scn.people:
+        if p.behavior.type == "stand":
+            free &= np.hypot(xs - p.position[0], ys - p.position[1]) > p.radius + need
+    space.free = free
+    return space.connected(scn.start, scn.goal)
 
 
 def _joint(scn: Scenario, robot: RobotModel, y_lim: float) -> float:
