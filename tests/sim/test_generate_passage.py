@@ -188,23 +188,32 @@ def stand(pid: int, x: float, y: float) -> PersonSpec:
 
 def test_people_standing_one_behind_the_other_can_close_the_corridor():
     """Reporting seed 10164: two people standing 0.4 m apart along a 2.43 m corridor, one on
-    each side of the middle. Beside each alone a PR2 passes (1.25 m of room below the first);
-    together they leave 0.73 m above the first, 0.40 m between them and 0.60 m below the
-    second, against the PR2's 0.67 m + 0.1 m. The scene counted as feasible and the PR2 waited
+    each side of the middle. Beside each alone a PR2 passes (1.16 m of room below the first);
+    together they leave 0.68 m above the first, 0.30 m between them and 0.55 m below the
+    second, against the PR2's 0.65 m + 0.1 m. The scene counted as feasible and the PR2 waited
     beside them until the time limit."""
     from socialnav.sim.generate.hallway import _standing_passage
 
+    def passes(people: list[PersonSpec], width: float, robot) -> bool:
+        w = half_width(robot)
+        return _standing_passage(corridor(people, width), robot, w, width / 2 - w - 0.05)
+
     width = 2.426
-    pair = corridor([stand(1, 7.966, 0.287), stand(3, 8.369, -0.409)], width)
-    w_pr2, w_pioneer = half_width(PR2), half_width(PIONEER)
-    assert not _standing_passage(pair, PR2, w_pr2)
-    assert _standing_passage(pair, PIONEER, w_pioneer)  # 0.73 m is room for the Pioneer
-    for alone in ([stand(1, 7.966, 0.287)], [stand(3, 8.369, -0.409)]):
-        assert _standing_passage(corridor(alone, width), PR2, w_pr2)
-    # the per-unit rule's own limit is kept: 1 cm more than width + 0.1 m beside one person
-    y = -width / 2 + 2 * w_pr2 + 0.1 + 0.01 + 0.25
-    assert _standing_passage(corridor([stand(1, 8.0, y)], width), PR2, w_pr2)
-    scn = generate("hallway", 10164)  # now drawn again: a way through for both robots
+    pair = [stand(1, 7.966, 0.287), stand(3, 8.369, -0.409)]
+    assert not passes(pair, width, PR2)
+    assert passes(pair, width, PIONEER)  # 0.68 m is room for the Pioneer's 0.48 m
+    assert passes(pair[:1], width, PR2) and passes(pair[1:], width, PR2)
+    walking = [walker(1, 7.966, 0.287, -1.0), pair[1]]  # walkers are the timing's business
+    assert passes(walking, width, PR2)
+    # Where the per-unit rule passes, so does this (walls are analytic: the grid's wall cells
+    # reach 3.5 cm into the corridor); on the grid it gives the robot up to a cell. One person
+    # 5 cm from the upper wall, the room below them 1 cm over and 6 cm under the rule's:
     for robot in (PR2, PIONEER):
-        assert _standing_passage(scn, robot, half_width(robot))
+        need = 2 * half_width(robot) + 0.1
+        for slack, ok in ((0.01, True), (-0.06, False)):
+            w_corr = need + slack + 0.5 + 0.05
+            y = -w_corr / 2 + need + slack + 0.25
+            assert passes([stand(1, 8.0, y)], w_corr, robot) is ok, (robot.name, slack)
+        assert passes([], need + 0.01, robot)  # an empty corridor just wide enough
+    scn = generate("hallway", 10164)  # now drawn again: a way through for both robots
     assert [p.behavior.type for p in scn.people] == ["walk", "walk"]

@@ -154,7 +154,7 @@ def draw(rng: np.random.Generator, name: str) -> Scenario:
                 facts[f"max_clearance_{ids[k]}"] = r3(best)
                 k += 1
             worst = min(worst, best)
-        if not _standing_passage(scn, robot, w):
+        if not _standing_passage(scn, robot, w, y_lim):
             raise Infeasible(f"{robot_name}: no passage through the people standing together")
         facts["passage"] = True
         joint = _joint(scn, robot, y_lim)
@@ -198,20 +198,24 @@ def draw(rng: np.random.Generator, name: str) -> Scenario:
     )
 
 
-def _standing_passage(scn: Scenario, robot: RobotModel, w: float) -> bool:
-    """The robot centre, kept ``w + 0.05`` m (``w``: the footprint's half width) from walls
-    and from everyone standing, joins start and goal: the per-unit rule above, for all units
-    at once. Two units whose roomy sides do not line up (one near each wall, 0.4 m apart along
-    the corridor) each leave a passage alone and none together (reporting seed 10164: a PR2
-    waited beside them until the time limit). The grid (``CHECK_RESOLUTION``) gives half a
-    cell to the robot, so that it only adds what the per-unit rule cannot see."""
+def _standing_passage(scn: Scenario, robot: RobotModel, w: float, y_lim: float) -> bool:
+    """The robot centre, inside the corridor's ``|y| <= y_lim`` (``W/2 - w - 0.05``) and
+    ``w + 0.05`` m from everyone standing (``w``: the footprint's half width), joins start and
+    goal: the per-unit rule above, for all units at once. Two units whose roomy sides do not
+    line up (one near each wall, 0.4 m apart along the corridor) can each leave a passage
+    alone and none together (reporting seed 10164: a PR2 waited beside them until the time
+    limit). The walls are the analytic ``y_lim``, not the grid's (its cells reach 3.5 cm into
+    the corridor); on the grid (``CHECK_RESOLUTION``) half a cell goes to the robot on either
+    side, as in ``_joint``, so that a band of free positions narrower than a cell is not
+    missed between the grid's points."""
     space = FreeSpace(scn, robot, people=False)
     xs, ys = space.geometry.cell_centers()
-    need = w + CLEARANCE_MARGIN - space.geometry.resolution / 2
-    free = space.clearance > need
+    half_cell = space.geometry.resolution / 2
+    free = np.abs(ys) <= y_lim + half_cell
     for p in scn.people:
         if p.behavior.type == "stand":
-            free &= np.hypot(xs - p.position[0], ys - p.position[1]) > p.radius + need
+            reach = p.radius + w + CLEARANCE_MARGIN - half_cell
+            free &= np.hypot(xs - p.position[0], ys - p.position[1]) > reach
     space.free = free
     return space.connected(scn.start, scn.goal)
 
