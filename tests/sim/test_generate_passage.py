@@ -195,8 +195,9 @@ def test_people_standing_one_behind_the_other_can_close_the_corridor():
     from socialnav.sim.generate.hallway import _standing_passage
 
     def passes(people: list[PersonSpec], width: float, robot) -> bool:
-        w = half_width(robot)
-        return _standing_passage(corridor(people, width), robot, w, width / 2 - w - 0.05)
+        w, scn = half_width(robot), corridor(people, width)
+        space = FreeSpace(scn, robot, people=False)
+        return _standing_passage(scn, space, w, width / 2 - w - 0.05)
 
     width = 2.426
     pair = [stand(1, 7.966, 0.287), stand(3, 8.369, -0.409)]

@@ -172,12 +172,19 @@ class FreeSpace:
         c = self.cell(p)
         return 0.0 if c is None else float(self.clearance[c])
 
-    def connected(self, a: Sequence[float], b: Sequence[float], snap: float = 0.15) -> bool:
+    def connected(
+        self,
+        a: Sequence[float],
+        b: Sequence[float],
+        snap: float = 0.15,
+        free: np.ndarray | None = None,
+    ) -> bool:
         """A free path joins ``a`` and ``b`` (each snapped to a free cell within ``snap`` m:
-        the end points themselves sit next to the people they are about)."""
+        the end points themselves sit next to the people they are about); ``free`` (the grid's
+        shape) replaces :attr:`free` as the robot centre's free cells."""
         from scipy.ndimage import label
 
-        labels, _ = label(self.free)
+        labels, _ = label(self.free if free is None else free)
         la, lb = self._label_near(labels, a, snap), self._label_near(labels, b, snap)
         return bool(la & lb)
 

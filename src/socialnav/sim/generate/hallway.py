@@ -154,10 +154,11 @@ def draw(rng: np.random.Generator, name: str) -> Scenario:
                 facts[f"max_clearance_{ids[k]}"] = r3(best)
                 k += 1
             worst = min(worst, best)
-        if not _standing_passage(scn, robot, w, y_lim):
+        space = FreeSpace(scn, robot, people=False)
+        if not _standing_passage(scn, space, w, y_lim):
             raise Infeasible(f"{robot_name}: no passage through the people standing together")
         facts["passage"] = True
-        joint = _joint(scn, robot, y_lim)
+        joint = _joint(scn, robot, space, y_lim)
         if joint < HUMAN_RADIUS + robot.inscribed_radius or not can_avoid_collision(scn, robot):
             raise Infeasible(f"{robot_name}: no collision-free way past the people")
         facts["collision_free"] = True
@@ -198,7 +199,7 @@ def draw(rng: np.random.Generator, name: str) -> Scenario:
     )
 
 
-def _standing_passage(scn: Scenario, robot: RobotModel, w: float, y_lim: float) -> bool:
+def _standing_passage(scn: Scenario, space: FreeSpace, w: float, y_lim: float) -> bool:
     """The robot centre, inside the corridor's ``|y| <= y_lim`` (``W/2 - w - 0.05``) and
     ``w + 0.05`` m from everyone standing (``w``: the footprint's half width), joins start and
     goal: the per-unit rule above, for all units at once. Two units whose roomy sides do not
@@ -207,8 +208,7 @@ def _standing_passage(scn: Scenario, robot: RobotModel, w: float, y_lim: float) 
     limit). The walls are the analytic ``y_lim``, not the grid's (its cells reach 3.5 cm into
     the corridor); on the grid (``CHECK_RESOLUTION``) half a cell goes to the robot on either
     side, as in ``_joint``, so that a band of free positions narrower than a cell is not
-    missed between the grid's points."""
-    space = FreeSpace(scn, robot, people=False)
+    missed between the grid's points. ``space``: the robot's, without people."""
     xs, ys = space.geometry.cell_centers()
     half_cell = space.geometry.resolution / 2
     free = np.abs(ys) <= y_lim + half_cell
@@ -216,13 +216,12 @@ def _standing_passage(scn: Scenario, robot: RobotModel, w: float, y_lim: float) 
         if p.behavior.type == "stand":
             reach = p.radius + w + CLEARANCE_MARGIN - half_cell
             free &= np.hypot(xs - p.position[0], ys - p.position[1]) > reach
-    space.free = free
-    return space.connected(scn.start, scn.goal)
+    return space.connected(scn.start, scn.goal, free=free)
 
 
-def _joint(scn: Scenario, robot: RobotModel, y_lim: float) -> float:
-    """Joint clearance (m) with the robot centre inside the corridor's ``|y| <= y_lim``."""
-    space = FreeSpace(scn, robot, people=False)
+def _joint(scn: Scenario, robot: RobotModel, space: FreeSpace, y_lim: float) -> float:
+    """Joint clearance (m) with the robot centre inside the corridor's ``|y| <= y_lim``;
+    ``space``: the robot's, without people."""
     xs, ys = space.geometry.cell_centers()
     free = space.free & (np.abs(ys) <= y_lim + space.geometry.resolution / 2)
     return joint_clearance(scn, robot, free, xs, ys, cap=JOINT_CAP)
