@@ -90,21 +90,25 @@ def test_a_robot_already_in_the_narrower_gap_keeps_to_its_room():
     PASSAGE_COMMIT m of them and beside them in the upper gap, to the upper gap's own room, so
     the pass through it costs nothing in ID (dev seed 183, Pioneer: held to the lower gap's
     distance there, it crawled and stalled). Neither gap keeps the 1.2 m personal space from
-    both, so the robot may commit. Below them, nothing changes."""
+    both, so the robot may commit. Below them, on the lower gap's best line, nothing changes.
+    Inside the personal space, off the gap's best line, the robot keeps its own offset."""
     pair = (Person(1, (5.0, -0.19)), Person(2, (5.0, 0.5)))
-    upper = free_edge(PIONEER) - 0.5  # where the robot's centre keeps most from person 2
+    edge = free_edge(PIONEER)
+    upper = edge - 0.5  # where the robot's centre keeps most from person 2
     far = passage_clearances(corridor_ctx(pair, pose=(2.0, 1.0, 0.0)), 1.5)
     assert far[1] >= 1.5 - RES  # the lower gap's distance, about the threshold
     near = passage_clearances(corridor_ctx(pair, pose=(5.0 - PASSAGE_COMMIT + 0.1, 1.0, 0.0)), 1.5)
     assert near[1] == pytest.approx(upper, abs=RES)
-    assert near[0] == pytest.approx(free_edge(PIONEER) + 0.19, abs=2 * RES)  # the upper gap
-    abreast = passage_clearances(corridor_ctx(pair, pose=(5.0, 1.0, 0.0)), 1.5)
+    assert near[0] == pytest.approx(edge + 0.19, abs=2 * RES)  # the upper gap
+    abreast = passage_clearances(corridor_ctx(pair, pose=(5.0, edge, 0.0)), 1.5)
     assert abreast[1] == pytest.approx(upper, abs=RES)
-    below = passage_clearances(corridor_ctx(pair, pose=(4.5, -0.9, 0.0)), 1.5)
+    off_line = passage_clearances(corridor_ctx(pair, pose=(5.0, 1.0, 0.0)), 1.5)
+    assert off_line[1] == pytest.approx(0.5)  # 7 cm short of the line: its own offset
+    below = passage_clearances(corridor_ctx(pair, pose=(4.2, -0.9, 0.0)), 1.5)
     assert below == pytest.approx(far, abs=RES)
     # past them, within PASSAGE_COMMIT m, still committed; in line with the person (not
     # beside them), both sides count as before
-    past = passage_clearances(corridor_ctx(pair, pose=(6.0, 1.0, 0.0)), 1.5)
+    past = passage_clearances(corridor_ctx(pair, pose=(6.0, edge, 0.0)), 1.5)
     assert past[1] == pytest.approx(upper, abs=RES)
     ahead = passage_clearances(corridor_ctx(pair, pose=(4.0, 0.5, 0.0)), 1.5)
     assert ahead[1] == pytest.approx(far[1])
@@ -133,12 +137,45 @@ def test_bug_the_cross_section_went_through_a_wall_inside_a_persons_inflation():
 
 
 def test_no_commitment_to_a_gap_that_intrudes_when_the_other_side_keeps_the_space():
-    """Person 2 alone: the lower side keeps 1.57 m from them, the upper gap 0.57 m. A robot in
-    the upper gap is not held to 0.57 m: the way round keeps the personal space, and ID's
-    crawl makes it stop and replan (dev seed 107, Pioneer: committed, it passed at 1.06 m)."""
+    """Person 2 alone: the lower side keeps 1.57 m from them, the upper gap 0.57 m. A robot
+    beside them in the upper gap, not yet abreast of them, is not held to 0.57 m: the
+    way round keeps the personal space, and ID's crawl makes it stop and replan (dev seed 107,
+    Pioneer: committed, it passed at 1.06 m). Once abreast of them inside it, it keeps its own
+    offset."""
     alone = (Person(2, (5.0, 0.5)),)
     near = passage_clearances(corridor_ctx(alone, pose=(4.0, 1.0, 0.0)), 1.5)
     assert near[0] > 1.5
+    abreast = passage_clearances(corridor_ctx(alone, pose=(4.6, 1.0, 0.0)), 1.5)
+    assert abreast[0] == pytest.approx(0.5)
+
+
+def test_bug_a_robot_inside_the_personal_space_was_held_to_a_room_it_could_not_reach():
+    """Generated hallway dev seeds 73 and 196, Pioneer: beside a person standing 0.77-0.92 m
+    away, the robot was held to a room it could not reach (a place a cell nearer the wall than
+    its footprint allows, or the far side of the person with 1.5 m of room, behind it now), so
+    every step on along its own line cost ID and the robot crawled back and forth until the
+    time limit. Abreast of the person inside the personal space, the room is at most the
+    robot's own offset from them: driving on along it costs nothing, moving in still does.
+    Before that, nothing changes. Two people standing 1.2 m apart, the robot between them a
+    metre before them, already inside both personal spaces: not abreast, so not held to the
+    gap between them (the way round keeps 1.35 m)."""
+    person = (Person(1, (5.0, -0.19)),)
+    y = -0.9  # in the lower gap, 0.71 m to the side of the person
+    before = passage_clearances(corridor_ctx(person, pose=(4.2, y, 0.0)), 1.5)
+    assert np.hypot(0.8, 0.71) < PERSONAL_DISTANCE  # inside, but 0.8 m before them
+    assert before[0] == pytest.approx(free_edge(PIONEER) - 0.19, abs=2 * RES)  # its side's
+    ctx = corridor_ctx(person, pose=(4.6, y, 0.0))
+    assert passage_clearances(ctx, 1.5)[0] == pytest.approx(0.71)
+    from test_social_critics import straight
+
+    critic = InterpersonalCritic(evaluation="max_over_time", passage_distance=True)
+    on = straight([(4.8, y), (5.0, y), (5.4, y)], start=(4.6, y))
+    assert np.all(critic.score(on, ctx).cost == 0.0)
+    inward = straight([(5.0, y + 0.2)], start=(4.6, y))
+    assert critic.score(inward, ctx).cost[0] > 0.0
+    pair = (Person(1, (5.0, -0.3)), Person(2, (5.0, 0.9)))
+    between = passage_clearances(corridor_ctx(pair, pose=(4.0, 0.3, 0.0), half=1.9), 1.5)
+    assert between[0] == pytest.approx(free_edge(PIONEER, 1.9) - 0.3, abs=2 * RES)
 
 
 def test_a_wide_passage_keeps_the_personal_space():
@@ -230,6 +267,23 @@ def test_bug_pioneer_stalled_in_the_narrower_gap_beside_a_pair():
     ).record
     assert [c.name for c in success_conditions(record) if c.required and not c.passed] == []
     assert float(record.times[-1]) < 35.0
+
+
+def test_bug_pioneer_crawled_beside_a_person_a_cell_out_of_reach_until_the_time_limit():
+    """Generated hallway dev seed 73, Pioneer: two people stand across a 2.71 m corridor; the
+    robot went into the 0.91 m gap by the wall and stopped 0.87 m beside the person, against an
+    estimated room of 0.95 m its footprint could not reach, and crawled there from 36 s until
+    the time limit (66 s). Now it drives through and arrives."""
+    from socialnav.metrics.success import success_conditions
+    from socialnav.sim.generate import generate
+    from socialnav.sim.runner import run_episode
+    from socialnav.sim.stack import StackController
+
+    record = run_episode(
+        generate("hallway", 73), StackController("paccet"), "pioneer", seed=73
+    ).record
+    assert [c.name for c in success_conditions(record) if c.required and not c.passed] == []
+    assert float(record.times[-1]) < 30.0
 
 
 @settings(max_examples=60, deadline=None)

@@ -40,7 +40,9 @@ Deviations and choices:
   robot has driven, up to the closest point, so every cycle a slower command scores better:
   the robot crawled, and the progress checker gave up beside the person (generated hallway).
   A robot already beside the person, within ``PASSAGE_COMMIT`` m of them along the plan,
-  keeps its own side's room, unless only the other side keeps ``PERSONAL_DISTANCE``.
+  keeps its own side's room, unless only the other side keeps ``PERSONAL_DISTANCE``; one
+  abreast of them and already nearer than ``PERSONAL_DISTANCE`` keeps at most the distance it
+  has to the side.
 - Passing distance (``hold_horizon`` s, 0 = off; ``max_over_time`` only): after the rollout the
   robot is assumed to stand at the trajectory's end point while people walk on at constant
   velocity for ``hold_horizon`` s, and the distance is the minimum over the rollout and that
@@ -247,7 +249,15 @@ def passage_clearances(ctx: PlanningContext, threshold: float) -> FloatArray:
     generated hallway dev seed 107, Pioneer, passed 1.06 m from a person when committed there,
     1.33 m without). Without this, a robot that went into the narrower of two gaps (after giving
     way to a walker, say) was held to the wider gap's distance and crawled against ID until it
-    stalled (generated hallway dev seed 183, Pioneer). Without a plan of positive length, or
+    stalled (generated hallway dev seed 183, Pioneer). A robot beside the person, abreast of
+    them (along the plan, within their radius plus its circumscribed radius of them) and already
+    nearer than ``PERSONAL_DISTANCE`` gets at most its own lateral offset from them (on the
+    cross-section's normal) as the room: the places the estimate finds may lie beyond its
+    footprint's reach (a cell or so at a wall: dev seed 73, Pioneer, 0.87 m against an
+    estimated 0.95 m) or on the other side, which it can no longer reach without turning back
+    (dev seed 196, Pioneer, 0.77 m from a person with 1.5 m below them); held to either, it
+    crawled back and forth beside the person until the time limit. Without a plan of positive
+    length, or
     nobody standing near it, all ``inf`` (the option has no effect). Never raises for a
     well-typed context."""
     from socialnav.planner.critics.map_grid import plan_ahead
@@ -322,6 +332,12 @@ def passage_clearances(ctx: PlanningContext, threshold: float) -> FloatArray:
         own_room, own_kept = _room(own_side, to_still, t, res)
         commit = (own_kept >= PERSONAL_DISTANCE) | (kept < PERSONAL_DISTANCE)
         room = np.where(beside & own_side.any(axis=1) & commit, own_room, room)
+        # Abreast of them and already inside their personal space: the room is at most the
+        # robot's own offset, so driving on at it costs nothing in ID (the estimate's room may
+        # be out of the footprint's reach, or on a side the robot can no longer turn back to).
+        abreast = np.abs(along) <= radii[todo] + ctx.robot.circumscribed_radius
+        inside = beside & abreast & (np.hypot(*rel.T) < PERSONAL_DISTANCE)
+        room = np.where(inside, np.minimum(room, np.abs(lateral)), room)
     out[todo[has]] = room[has]
     return out
 
