@@ -41,8 +41,9 @@ Deviations and choices:
   the robot crawled, and the progress checker gave up beside the person (generated hallway).
   A robot already beside the person, within ``PASSAGE_COMMIT`` m of them along the plan,
   keeps its own side's room, unless only the other side keeps ``PERSONAL_DISTANCE``; one
-  abreast of them and already nearer than ``PERSONAL_DISTANCE`` keeps at most the distance it
-  has to the side.
+  squeezed abreast of them, already nearer than ``PERSONAL_DISTANCE`` on a side that cannot
+  keep it, is held to its own lateral offset from them, less a centimetre
+  (:func:`passage_clearances`).
 - Passing distance (``hold_horizon`` s, 0 = off; ``max_over_time`` only): after the rollout the
   robot is assumed to stand at the trajectory's end point while people walk on at constant
   velocity for ``hold_horizon`` s, and the distance is the minimum over the rollout and that
@@ -224,6 +225,10 @@ PASSAGE_REACH = 3.0
 #: within this distance (m) of a person's cross-section, along the plan, a robot already
 #: beside them keeps to its own side's room (``passage_clearances``)
 PASSAGE_COMMIT = 1.5
+#: a robot squeezed abreast of a standing person keeps their passage room at its own lateral
+#: offset plus this (m): ``partner_margin`` (0.05) less 1 cm, so an inward step of more than
+#: 1 cm per cycle still costs ID (``passage_clearances``)
+ABREAST_MARGIN = 0.04
 
 
 def passage_clearances(ctx: PlanningContext, threshold: float) -> FloatArray:
@@ -249,17 +254,19 @@ def passage_clearances(ctx: PlanningContext, threshold: float) -> FloatArray:
     generated hallway dev seed 107, Pioneer, passed 1.06 m from a person when committed there,
     1.33 m without). Without this, a robot that went into the narrower of two gaps (after giving
     way to a walker, say) was held to the wider gap's distance and crawled against ID until it
-    stalled (generated hallway dev seed 183, Pioneer). A robot beside the person, abreast of
-    them (along the plan, within their radius plus its circumscribed radius of them) and already
-    nearer than ``PERSONAL_DISTANCE`` gets at most its own lateral offset from them (on the
-    cross-section's normal) as the room: the places the estimate finds may lie beyond its
-    footprint's reach (a cell or so at a wall: dev seed 73, Pioneer, 0.87 m against an
-    estimated 0.95 m) or on the other side, which it can no longer reach without turning back
-    (dev seed 196, Pioneer, 0.77 m from a person with 1.5 m below them); held to either, it
-    crawled back and forth beside the person until the time limit. Without a plan of positive
-    length, or
-    nobody standing near it, all ``inf`` (the option has no effect). Never raises for a
-    well-typed context."""
+    stalled (generated hallway dev seed 183, Pioneer). A robot *squeezed* beside a person —
+    beside them, abreast of them (its centre, along the plan's tangent at the person, within
+    their radius plus the footprint's half-length of theirs), already nearer than
+    ``PERSONAL_DISTANCE``, on a side whose places keep less than ``PERSONAL_DISTANCE`` from
+    everyone standing — gets at most its own lateral offset from them (on the cross-section's
+    normal) plus ``ABREAST_MARGIN`` as the room, whatever the other side allows: the places the
+    estimate finds may lie beyond its footprint's reach (a cell or so at a wall: dev seed 73,
+    Pioneer, 0.87 m against an estimated 0.95 m) or on the other side, which it can no longer
+    reach without turning back (dev seed 196, Pioneer, 0.77 m from a person with 1.5 m below
+    them); held to either, it crawled back and forth beside the person until the time limit.
+    A side that keeps the personal space is never capped, so there ID still pushes the robot
+    out. Without a plan of positive length, or nobody standing near it, all ``inf`` (the
+    option has no effect). Never raises for a well-typed context."""
     from socialnav.planner.critics.map_grid import plan_ahead
 
     social = ctx.social
@@ -332,12 +339,16 @@ def passage_clearances(ctx: PlanningContext, threshold: float) -> FloatArray:
         own_room, own_kept = _room(own_side, to_still, t, res)
         commit = (own_kept >= PERSONAL_DISTANCE) | (kept < PERSONAL_DISTANCE)
         room = np.where(beside & own_side.any(axis=1) & commit, own_room, room)
-        # Abreast of them and already inside their personal space: the room is at most the
-        # robot's own offset, so driving on at it costs nothing in ID (the estimate's room may
-        # be out of the footprint's reach, or on a side the robot can no longer turn back to).
-        abreast = np.abs(along) <= radii[todo] + ctx.robot.circumscribed_radius
-        inside = beside & abreast & (np.hypot(*rel.T) < PERSONAL_DISTANCE)
-        room = np.where(inside, np.minimum(room, np.abs(lateral)), room)
+        # Abreast of them, inside their personal space, in a gap that cannot keep it: the room
+        # is at most the robot's own offset (less a centimetre of ID), so driving on at it
+        # costs nothing and moving in still does. The estimate's room may lie out of the
+        # footprint's reach, or on a side the robot can no longer turn back to.
+        half_length = float(np.abs(ctx.robot.polygon[:, 0]).max())
+        abreast = np.abs(along) <= radii[todo] + half_length
+        inside = np.hypot(*rel.T) < PERSONAL_DISTANCE
+        squeezed = beside & abreast & inside & (own_kept < PERSONAL_DISTANCE)
+        offset = np.abs(lateral) + ABREAST_MARGIN
+        room = np.where(squeezed, np.minimum(room, offset), room)
     out[todo[has]] = room[has]
     return out
 
