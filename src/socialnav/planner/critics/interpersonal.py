@@ -41,9 +41,9 @@ Deviations and choices:
   the robot crawled, and the progress checker gave up beside the person (generated hallway).
   A robot already beside the person, within ``PASSAGE_COMMIT`` m of them along the plan,
   keeps its own side's room, unless only the other side keeps ``PERSONAL_DISTANCE``; one
-  squeezed abreast of them, already nearer than ``PERSONAL_DISTANCE`` on a side that cannot
-  keep it, is held to its own lateral offset from them, less a centimetre
-  (:func:`passage_clearances`).
+  squeezed abreast of them, already nearer than ``PERSONAL_DISTANCE`` on a side whose places
+  keep less than it from everyone standing, gets a room of at most its own lateral offset
+  from them plus ``ABREAST_MARGIN`` (:func:`passage_clearances`).
 - Passing distance (``hold_horizon`` s, 0 = off; ``max_over_time`` only): after the rollout the
   robot is assumed to stand at the trajectory's end point while people walk on at constant
   velocity for ``hold_horizon`` s, and the distance is the minimum over the rollout and that
@@ -225,9 +225,11 @@ PASSAGE_REACH = 3.0
 #: within this distance (m) of a person's cross-section, along the plan, a robot already
 #: beside them keeps to its own side's room (``passage_clearances``)
 PASSAGE_COMMIT = 1.5
-#: a robot squeezed abreast of a standing person keeps their passage room at its own lateral
-#: offset plus this (m): ``partner_margin`` (0.05) less 1 cm, so an inward step of more than
-#: 1 cm per cycle still costs ID (``passage_clearances``)
+#: a robot squeezed abreast of a standing person gets their passage room capped at its own
+#: lateral offset plus this (m): with the default ``partner_margin`` (0.05) the ID threshold is
+#: the offset less 1 cm, so level with them an inward step of more than 1 cm costs ID
+#: (``passage_clearances``; before or past them, where the distance is not the lateral offset,
+#: smaller steps can be free)
 ABREAST_MARGIN = 0.04
 
 
@@ -255,8 +257,9 @@ def passage_clearances(ctx: PlanningContext, threshold: float) -> FloatArray:
     1.33 m without). Without this, a robot that went into the narrower of two gaps (after giving
     way to a walker, say) was held to the wider gap's distance and crawled against ID until it
     stalled (generated hallway dev seed 183, Pioneer). A robot *squeezed* beside a person —
-    beside them, abreast of them (its centre, along the plan's tangent at the person, within
-    their radius plus the footprint's half-length of theirs), already nearer than
+    beside them, abreast of them (the distance from its centre to theirs, along the plan's
+    tangent at the person, at most their radius plus the footprint's half-length), already
+    nearer than
     ``PERSONAL_DISTANCE``, on a side whose places keep less than ``PERSONAL_DISTANCE`` from
     everyone standing — gets at most its own lateral offset from them (on the cross-section's
     normal) plus ``ABREAST_MARGIN`` as the room, whatever the other side allows: the places the
@@ -339,10 +342,11 @@ def passage_clearances(ctx: PlanningContext, threshold: float) -> FloatArray:
         own_room, own_kept = _room(own_side, to_still, t, res)
         commit = (own_kept >= PERSONAL_DISTANCE) | (kept < PERSONAL_DISTANCE)
         room = np.where(beside & own_side.any(axis=1) & commit, own_room, room)
-        # Abreast of them, inside their personal space, in a gap that cannot keep it: the room
-        # is at most the robot's own offset (less a centimetre of ID), so driving on at it
-        # costs nothing and moving in still does. The estimate's room may lie out of the
-        # footprint's reach, or on a side the robot can no longer turn back to.
+        # Abreast of them, inside their personal space, on a side whose places keep less than
+        # it from everyone standing: the room is at most the robot's own offset + 4 cm (its ID
+        # threshold the offset less 1 cm with the 5 cm partner margin), so driving on level with
+        # them costs nothing. The estimate's room may lie out of the footprint's reach, or on a
+        # side the robot can no longer turn back to.
         half_length = float(np.abs(ctx.robot.polygon[:, 0]).max())
         abreast = np.abs(along) <= radii[todo] + half_length
         inside = np.hypot(*rel.T) < PERSONAL_DISTANCE
