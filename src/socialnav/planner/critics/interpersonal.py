@@ -259,17 +259,16 @@ def passage_clearances(ctx: PlanningContext, threshold: float) -> FloatArray:
     stalled (generated hallway dev seed 183, Pioneer). A robot *squeezed* beside a person —
     beside them, abreast of them (the distance from its centre to theirs, along the plan's
     tangent at the person, at most their radius plus the footprint's half-length), already
-    nearer than
-    ``PERSONAL_DISTANCE``, on a side whose places keep less than ``PERSONAL_DISTANCE`` from
-    everyone standing — gets at most its own lateral offset from them (on the cross-section's
-    normal) plus ``ABREAST_MARGIN`` as the room, whatever the other side allows: the places the
-    estimate finds may lie beyond its footprint's reach (a cell or so at a wall: dev seed 73,
-    Pioneer, 0.87 m against an estimated 0.95 m) or on the other side, which it can no longer
-    reach without turning back (dev seed 196, Pioneer, 0.77 m from a person with 1.5 m below
-    them); held to either, it crawled back and forth beside the person until the time limit.
-    A side that keeps the personal space is never capped, so there ID still pushes the robot
-    out. Without a plan of positive length, or nobody standing near it, all ``inf`` (the
-    option has no effect). Never raises for a well-typed context."""
+    nearer than ``PERSONAL_DISTANCE``, on a side whose places keep less than
+    ``PERSONAL_DISTANCE`` from everyone standing — gets at most its own lateral offset from them
+    (on the cross-section's normal) plus ``ABREAST_MARGIN`` as the room, whatever the other side
+    allows: the places the estimate finds may lie beyond its footprint's reach (a cell or so at
+    a wall: dev seed 73, Pioneer, 0.87 m against an estimated 0.95 m) or on the other side,
+    which it can no longer reach without turning back (dev seed 196, Pioneer, 0.77 m from a
+    person with 1.5 m below them); held to either, it crawled back and forth beside the person
+    until the time limit. A side that keeps the personal space is never capped, so there ID
+    still pushes the robot out. Without a plan of positive length, or nobody standing near it,
+    all ``inf`` (the option has no effect). Never raises for a well-typed context."""
     from socialnav.planner.critics.map_grid import plan_ahead
 
     social = ctx.social
@@ -342,11 +341,7 @@ def passage_clearances(ctx: PlanningContext, threshold: float) -> FloatArray:
         own_room, own_kept = _room(own_side, to_still, t, res)
         commit = (own_kept >= PERSONAL_DISTANCE) | (kept < PERSONAL_DISTANCE)
         room = np.where(beside & own_side.any(axis=1) & commit, own_room, room)
-        # Abreast of them, inside their personal space, on a side whose places keep less than
-        # it from everyone standing: the room is at most the robot's own offset + 4 cm (its ID
-        # threshold the offset less 1 cm with the 5 cm partner margin), so driving on level with
-        # them costs nothing. The estimate's room may lie out of the footprint's reach, or on a
-        # side the robot can no longer turn back to.
+        # squeezed (docstring): the estimate's room may be out of the footprint's reach
         half_length = float(np.abs(ctx.robot.polygon[:, 0]).max())
         abreast = np.abs(along) <= radii[todo] + half_length
         inside = np.hypot(*rel.T) < PERSONAL_DISTANCE
