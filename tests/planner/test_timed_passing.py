@@ -210,30 +210,48 @@ def test_timed_passing_needs_a_horizon() -> None:
         RecoveryParams(passing_distance=1.2, passing_horizon=0.0)
 
 
-def _messages(robot, people, steps: int = 120) -> list[str]:
-    """Drive paccet's loop in a 3.2 m corridor (exact integration of its commands) past
-    ``people(t) -> tuple[Person, ...]``; the loop's messages."""
+def _drive(robot, people, steps: int = 120, width: float = 3.2, **recovery):
+    """Drive paccet's loop from x = 2 m on the centre line of a ``width`` m corridor toward
+    x = 11 m (exact integration of its commands) past ``people(t) -> tuple[Person, ...]``:
+    the loop's messages and the smallest footprint-to-person-disc gap (m, negative: contact).
+    ``recovery``: overrides of paccet's loop parameters."""
     import sys
     from pathlib import Path
 
     sys.path.insert(0, str(Path(__file__).parent))
     from _planner_helpers import step_pose, world
 
+    from socialnav.core.geometry import body_to_world, signed_distance_to_polygon
     from socialnav.core.scene import SocialContext
     from socialnav.planner.presets import build_navigator
 
-    walls = [[[0.0, 0.0], [14.0, 0.0]], [[0.0, 3.2], [14.0, 3.2]]]
-    cm, _ = world(14.0, 3.2, walls, robot)
+    walls = [[[0.0, 0.0], [14.0, 0.0]], [[0.0, width], [14.0, width]]]
+    cm, _ = world(14.0, width, walls, robot)
+    centre = width / 2
     nav = build_navigator(
-        "paccet", robot, cm, np.array([11.0, 1.6, 0.0]), SocialContext(people(0.0))
+        "paccet",
+        robot,
+        cm,
+        np.array([11.0, centre, 0.0]),
+        SocialContext(people(0.0)),
+        recovery=recovery or None,
     )
-    pose, vel, out = np.array([2.0, 1.6, 0.0]), np.zeros(3), []
+    pose, vel, out, gap = np.array([2.0, centre, 0.0]), np.zeros(3), [], np.inf
     for k in range(steps):
         res = nav.step(k * 0.1, pose, vel, SocialContext(people(k * 0.1)))
         out.append(res.message)
         vel = res.cmd
         pose = step_pose(pose, vel)
-    return out
+        footprint = body_to_world(robot.polygon, pose)
+        for person in people((k + 1) * 0.1):
+            d = signed_distance_to_polygon(np.asarray(person.position)[None], footprint)[0]
+            gap = min(gap, float(d) - person.radius)
+    return out, gap
+
+
+def _messages(robot, people, steps: int = 120) -> list[str]:
+    """The loop's messages of :func:`_drive` in a 3.2 m corridor."""
+    return _drive(robot, people, steps)[0]
 
 
 def test_timed_passing_runs_for_a_lone_walker_and_not_in_a_crowd() -> None:
@@ -265,3 +283,100 @@ def test_timed_passing_runs_for_a_lone_walker_and_not_in_a_crowd() -> None:
 def test_bad_inputs_name_the_argument(pose, people, vel, name) -> None:
     with pytest.raises(ValueError, match=name):
         timed_pass(np.asarray(pose), np.zeros(3), PR2, people, vel, to_goal, anywhere)
+
+
+@pytest.mark.parametrize(("speed", "behind"), [(0.9, 2.0), (1.1, 2.5)])
+def test_bug_pr2_was_hit_from_behind_where_the_corridor_leaves_no_personal_space(speed, behind):
+    """A walker closes from behind in the PR2's lane of a 2.3 m corridor, which leaves at most
+    0.78 m beside them (no 1.2 m): timed passing at 1.25 m finds nothing, and giving way's
+    constant twists changed nearly every cycle and never left the lane (contact 0.10 m and
+    0.11 m deep). Passing clear of contact times a sidestep and keeps off them."""
+    from socialnav.core.scene import Person
+
+    def walker(t: float) -> tuple:
+        return (Person(1, (2.0 - behind + speed * t, 1.15), (speed, 0.0), 0.0),)
+
+    messages, gap = _drive(PR2, walker, width=2.3)
+    assert gap > 0.0
+    assert any(m.startswith("timed pass") for m in messages)
+    _, without = _drive(PR2, walker, width=2.3, passing_contact_fallback=False)
+    assert without < 0.0  # the case still is one: giving way alone touches the walker
+
+
+def test_bug_pr2_hit_by_a_pair_from_behind_in_generated_hallway_dev_seed_126():
+    """Generated hallway dev seed 126, PR2: a pair overtakes at 1.1 m/s in a 2.48 m corridor
+    (one of them in the robot's lane) while a third person comes the other way. Giving way
+    alone touched the walker behind at 2.9 s and the oncoming one at 6.7 s. Now it arrives
+    without contact."""
+    from socialnav.metrics.success import success_conditions
+    from socialnav.sim.generate import generate
+    from socialnav.sim.runner import run_episode
+    from socialnav.sim.stack import StackController
+
+    record = run_episode(
+        generate("hallway", 126), StackController("paccet"), "pr2", seed=126
+    ).record
+    assert not np.any(record.collision_person)
+    assert [c.name for c in success_conditions(record) if c.required and not c.passed] == []
+
+
+def test_wall_clearance_looks_through_people_but_not_through_walls() -> None:
+    """``clearance(walls_only=True)``, which tells a corridor from a crowd for passing clear of
+    contact: across a 2.3 m corridor with someone standing 0.6 m to the robot's left, the ray
+    to the left stops at the person's inflated disc, or (walls only) where the footprint would
+    touch the wall behind them, 0.75 m out (1.15 m half width − 0.05 m wall − 0.325 m PR2
+    inscribed radius, to a cell)."""
+    import sys
+    from pathlib import Path
+
+    sys.path.insert(0, str(Path(__file__).parent))
+    from _planner_helpers import context, world
+
+    from socialnav.core.scene import Person, SocialContext
+    from socialnav.planner.recovery import clearance
+    from socialnav.world.costmap import add_obstacle_discs
+
+    walls = [[[0.0, 0.0], [8.0, 0.0]], [[0.0, 2.3], [8.0, 2.3]]]
+    cm, _ = world(8.0, 2.3, walls, PR2)
+    person = Person(1, (4.0, 1.75))
+    with_people = add_obstacle_discs(cm, [[4.0, 1.75, person.radius]], PR2.inscribed_radius)
+    ctx = context(with_people, PR2, pose=(4.0, 1.15, 0.0), social=SocialContext((person,)))
+    left_right = np.array([np.pi / 2, -np.pi / 2])
+    seen = clearance(ctx, left_right, 2.4)
+    walls_only = clearance(ctx, left_right, 2.4, walls_only=True)
+    assert seen[0] <= 0.1  # the person 0.6 m away, inflated by 0.575 m (to a cell)
+    assert walls_only[0] == pytest.approx(0.75, abs=0.05)
+    assert walls_only[1] == pytest.approx(0.75, abs=0.05)
+    assert seen[1] == pytest.approx(walls_only[1], abs=0.05)  # no one there: both to a cell
+    empty = context(cm, PR2, pose=(4.0, 1.15, 0.0))
+    assert np.array_equal(clearance(empty, left_right, 2.4, walls_only=True), walls_only)
+
+
+@pytest.mark.parametrize(
+    ("width", "walled_in"),
+    [(2.3, True), (3.0, True), (3.6, False), (8.0, False)],
+)
+def test_passing_clear_of_contact_is_for_corridors_only(width, walled_in) -> None:
+    """The fallback's gate: the walls across a walker's path (walking along the corridor)
+    leave the PR2's centre less than 2 × 1.2 m from side to side: width − 0.1 m of wall −
+    2 × 0.325 m inscribed radius, to a cell (3.0 m: 2.25 m; 3.6 m: 2.85 m). A walker crossing
+    the corridor sees its length instead; recorded crowds (open squares) never pass the gate."""
+    import sys
+    from pathlib import Path
+
+    sys.path.insert(0, str(Path(__file__).parent))
+    from _planner_helpers import context, world
+
+    from socialnav.core.scene import Person, SocialContext
+    from socialnav.planner.presets import RECOMMENDED_RECOVERY, build_local_planner
+    from socialnav.planner.recovery import RecoveringPlanner
+
+    walls = [[[0.0, 0.0], [12.0, 0.0]], [[0.0, width], [12.0, width]]]
+    cm, _ = world(12.0, width, walls, PR2)
+    walker = Person(1, (3.0, width / 2 + 0.3), (1.0, 0.0), 0.0)
+    social = SocialContext((walker,))
+    planner = RecoveringPlanner(build_local_planner("paccet", PR2, social), RECOMMENDED_RECOVERY)
+    ctx = context(cm, PR2, pose=(6.0, width / 2 - 0.2, 0.0), social=social)
+    assert planner._walled_in(ctx, np.array([[1.0, 0.0]])) is walled_in
+    if width < 5.0:  # crossing: the corridor's length is across the walker's path
+        assert planner._walled_in(ctx, np.array([[0.0, 1.0]])) is False

@@ -395,11 +395,20 @@ DETOUR_LIMIT = 0.5
 #: Pioneer 183 → 184, but crowds 354 → 348 successes and 3 → 8 active-contact episodes (the
 #: local costmap holds people too, so the arc also ran beside them).
 MAX_RETREAT = 0.5
+#: ``paccet``'s passing clear of contact (``RecoveryParams.passing_contact_fallback``): in a
+#: corridor that leaves less than 2 × 1.2 m across a walker's path, where neither timed passing
+#: at 1.25 m nor giving way keeps the personal distance, timed passing again at the contact
+#: distance. Development seeds 0–199 of hallway (passes Pioneer / PR2, collision runs): before
+#: 192 / 187, 7; on 191 / 190, 3; without the corridor gate 190 / 190, 2, but recorded crowds
+#: 0–89 successes 354 → 349 and active-contact episodes 3 → 7 (with it: 354 and 3); gated on a
+#: walker from behind instead, 191 / 189, 3 and crowds 351, 5. Walker and other families
+#: unchanged. More in the CHANGELOG.
 RECOMMENDED_RECOVERY = RecoveryParams(
     evasion_personal_distance=1.2,
     evasion_personal_time=6.0,
     evasion_hold_step=1.0,
     passing_distance=PASSING_DISTANCE,
+    passing_contact_fallback=True,
     evasion_max_retreat=MAX_RETREAT,
     rotation_shim_threshold=math.pi / 2,
 )

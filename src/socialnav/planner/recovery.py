@@ -45,6 +45,17 @@ Behaviour (parameters in :class:`RecoveryParams`, ROS/Nav2 names, budgets in sec
   (:func:`~socialnav.planner.passing.follow_plan`). A sequence that ends more than
   ``passing_retreat`` m of plan farther from the goal than the encounter began is refused
   (keeping the distance by fleeing is not the robot's job), and giving way takes over.
+  (3b) *passing clear of contact* (``passing_contact_fallback``): in a corridor (the walls
+  across a triggering walker's path leave the robot's centre less than twice the personal
+  distance from side to side, people not counted) where giving way's best move is forecast to
+  come nearer than the personal distance too, timed passing searches again with the
+  distance at which a person would touch the robot in any orientation (person radius +
+  circumscribed radius) instead of ``passing_distance``, while nobody is nearer than that, and
+  its plan is commanded when it finds one. In a corridor that leaves no 1.2 m beside a walker
+  closing from behind, giving way's constant twists (then held) fell short: it chose a
+  different one nearly every cycle and the robot never got out of the lane, while a timed
+  sequence (drive on and sidestep, wait, cross after the walker) keeps clear. The search
+  still maximises the closest approach (``PassingParams.comfort``).
   (4) *no fleeing* (``evasion_max_retreat`` > 0), under timed passing's gate on the number
   of people near: at each giving-way decision, the moves that end more than
   ``evasion_max_retreat`` m farther from the goal (straight line) than the robot is now are
@@ -96,7 +107,7 @@ Behaviour (parameters in :class:`RecoveryParams`, ROS/Nav2 names, budgets in sec
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, fields
+from dataclasses import dataclass, fields, replace
 from numbers import Integral
 
 import numpy as np
@@ -126,7 +137,7 @@ from socialnav.planner.passing import PassingParams, PassingPlan, follow_plan, t
 from socialnav.planner.protocols import LocalPlannerProtocol
 from socialnav.planner.record import EvaluationRecord
 from socialnav.planner.rollout import RolloutParams, rollout
-from socialnav.world.grid import INSCRIBED
+from socialnav.world.grid import INSCRIBED, LETHAL
 
 _ACTIVE = (PlannerStatus.OK, PlannerStatus.NO_LEGAL_TRAJECTORY)
 _AT_GOAL = (PlannerStatus.GOAL_REACHED, PlannerStatus.ROTATING_TO_GOAL)
@@ -157,6 +168,8 @@ class RecoveryParams:
     ``evasion_personal_distance`` (m; 1.2), ``evasion_personal_time`` (s), ``evasion_hold_step``
     (s; 1.0), ``passing_distance`` (m; 1.25) with ``passing_horizon`` (s),
     ``passing_retreat`` (m of plan), ``passing_max_people`` within ``passing_count_range`` (m);
+    ``passing_contact_fallback`` (bool; on): timed passing clear of contact in a corridor
+    where giving way cannot keep the personal distance either;
     ``evasion_max_retreat`` (m of straight-line distance to the goal; 0.5): no fleeing, under
     timed passing's gate; ``rotation_shim_threshold`` (rad, at most pi; pi/2): the rotation shim
     after an evasion, differential drive only, toward the plan's point
@@ -189,6 +202,7 @@ class RecoveryParams:
     passing_retreat: float = 0.5
     passing_max_people: int = 3
     passing_count_range: float = 10.0
+    passing_contact_fallback: bool = False  # off; paccet on (needs passing_distance > 0)
     evasion_max_retreat: float = 0.0
     rotation_shim_threshold: float = 0.0
     rotation_shim_lookahead: float = 0.5
@@ -197,7 +211,12 @@ class RecoveryParams:
     def __post_init__(self) -> None:
         for f in fields(self):
             value = getattr(self, f.name)
-            if f.name in ("num_headings", "max_recoveries", "passing_max_people"):
+            if f.name == "passing_contact_fallback":
+                if not isinstance(value, bool):
+                    raise ConfigurationError(
+                        f"recovery parameter {f.name} must be True or False, got {value!r}"
+                    )
+            elif f.name in ("num_headings", "max_recoveries", "passing_max_people"):
                 if isinstance(value, bool) or not isinstance(value, Integral) or value < 1:
                     raise ConfigurationError(
                         f"recovery parameter {f.name} must be an integer >= 1, got {value!r}"
@@ -223,17 +242,35 @@ class RecoveryParams:
                 raise ConfigurationError(f"recovery parameter {name} must be positive")
 
 
-def clearance(ctx: PlanningContext, headings: FloatArray, max_range: float) -> FloatArray:
-    """Free distance (m) along rays ``(H,)`` world headings from the robot, up to ``max_range``."""
+def clearance(
+    ctx: PlanningContext, headings: FloatArray, max_range: float, walls_only: bool = False
+) -> FloatArray:
+    """Free distance (m) the robot's centre can move along rays ``(H,)`` world headings, up to
+    ``max_range``: to the first INSCRIBED/LETHAL/UNKNOWN cell. ``walls_only``: to the first
+    LETHAL/UNKNOWN cell that is no person's (farther than their radius + a cell from everyone)
+    less the inscribed radius, so people do not stop a ray (the local costmap marks them,
+    inflated like walls) but walls beside them do."""
     res = ctx.costmap.resolution
-    d = np.arange(1, int(np.ceil(max_range / res)) + 1) * res  # (R,)
+    reach = max_range + (ctx.robot.inscribed_radius if walls_only else 0.0)
+    d = np.arange(1, int(np.ceil(reach / res)) + 1) * res  # (R,)
     pts = (
         ctx.pose[:2]
         + d[None, :, None] * np.stack([np.cos(headings), np.sin(headings)], 1)[:, None, :]
     )
-    blocked = ctx.costmap.cost_at(pts) >= INSCRIBED  # (H, R); off-map reads LETHAL
+    cost = ctx.costmap.cost_at(pts)  # (H, R); off-map reads LETHAL
+    if not walls_only:
+        blocked = cost >= INSCRIBED
+    else:
+        blocked = cost >= LETHAL
+        if ctx.social.people:
+            rel = pts[:, :, None, :] - ctx.social.positions()[None, None]
+            own = np.hypot(rel[..., 0], rel[..., 1]) <= ctx.social.radii() + res
+            blocked &= ~own.any(axis=2)
     first = np.where(blocked.any(axis=1), blocked.argmax(axis=1), d.size)
-    return np.where(first > 0, d[np.maximum(first - 1, 0)], 0.0)
+    free = np.where(first > 0, d[np.maximum(first - 1, 0)], 0.0)
+    if walls_only:
+        free = np.clip(free - ctx.robot.inscribed_radius, 0.0, max_range)
+    return free
 
 
 def person_gaps(ctx: PlanningContext) -> FloatArray:
@@ -291,6 +328,7 @@ class RecoveringPlanner:
         self._pass_ref = math.nan  # plan still to go when the encounter began (m)
         self._pass_plan: PassingPlan | None = None
         self._pass_t0 = 0.0
+        self._pass_distance = 0.0  # the distance the followed plan keeps (m)
         self._shim_armed = False  # an evasion ended: the rotation shim may run once
         self._shim_turning = False
 
@@ -525,9 +563,15 @@ class RecoveringPlanner:
         why = f"evading person {people[who].id} (time to collision {float(ttc.min()):.2f} s)"
         return self._out(twists[k].copy(), PlannerStatus.EVADING, result.record, why)
 
-    def _timed_pass(self, ctx: PlanningContext, result: PlannerResult) -> PlannerResult | None:
-        """The first command of :func:`~socialnav.planner.passing.timed_pass`, or None."""
+    def _timed_pass(
+        self, ctx: PlanningContext, result: PlannerResult, distance: float | None = None
+    ) -> PlannerResult | None:
+        """The first command of :func:`~socialnav.planner.passing.timed_pass` keeping
+        ``distance`` m (default ``passing_distance``), or None. Between searches, the plan
+        found last is followed with the distance it was found with."""
         p = self.params
+        if distance is None:
+            distance = p.passing_distance
         path = np.asarray(ctx.global_path, dtype=float).reshape(-1, 2)
         if path.shape[0] >= 2:
             dense = densify_path(path, 0.1)
@@ -556,13 +600,12 @@ class RecoveringPlanner:
             ctx.social.positions(),
             ctx.social.velocities(),
         )
-        params = PassingParams(distance=p.passing_distance, horizon=p.passing_horizon)
+        params = PassingParams(distance=distance, horizon=p.passing_horizon)
         contact = ctx.social.radii() + self.robot.circumscribed_radius + 0.1
         now = float(ctx.time)
         if self._pass_plan is not None and now - self._pass_t0 < params.period - 1e-6:
-            cmd = follow_plan(
-                self._pass_plan, now - self._pass_t0, *args, static_ok, params, contact
-            )
+            kept = replace(params, distance=self._pass_distance)
+            cmd = follow_plan(self._pass_plan, now - self._pass_t0, *args, static_ok, kept, contact)
             if cmd is not None:
                 return self._passing_out(cmd, self._pass_plan, result)
         self._pass_plan = None
@@ -572,7 +615,7 @@ class RecoveringPlanner:
             self._pass_ref = here
         if plan is None or plan.to_go > self._pass_ref + p.passing_retreat:
             return None  # none, or only by retreating: the distance is not the robot's to keep
-        self._pass_plan, self._pass_t0 = plan, now
+        self._pass_plan, self._pass_t0, self._pass_distance = plan, now, distance
         return self._passing_out(plan.command.copy(), plan, result)
 
     def _passing_out(
@@ -627,11 +670,42 @@ class RecoveringPlanner:
                 gaps = np.where(flees, -np.inf, gaps)
         tied = gaps >= float(gaps.max()) - 0.05
         k = int(np.argmax(np.where(tied, progress, -np.inf)))
+        short = gaps[k] < float(clear.min()) - 1e-6  # nearer than the personal distance
+        fallback = p.passing_contact_fallback and p.passing_distance > 0 and few and short
+        if fallback and self._walled_in(ctx, vel[walkers]):
+            passed = self._pass_clear_of_contact(ctx, result)
+            if passed is not None:
+                return passed
         if own[k] or gaps[k] <= float(gaps[own].max()) + 1e-3:
             return None  # the planner's own command keeps as much clearance
         who = ctx.social.people[int(walkers[int(np.argmin(ttc[trigger]))])]
         why = f"giving way to person {who.id} (gap {float(gaps[k]):.2f} m over {horizon:.1f} s)"
         return self._out(trajs.twists[k].copy(), PlannerStatus.EVADING, result.record, why)
+
+    def _walled_in(self, ctx: PlanningContext, velocities: FloatArray) -> bool:
+        """Whether the walls across the path of any of the walkers (``velocities (W, 2)`` m/s,
+        world frame) leave the robot's centre less than twice the personal distance from one
+        side to the other (people not counted): a corridor too narrow to keep the personal
+        distance beside a walker in its middle."""
+        d = self.params.evasion_personal_distance
+        heading = np.arctan2(velocities[:, 1], velocities[:, 0])
+        free = clearance(
+            ctx, np.concatenate([heading + np.pi / 2, heading - np.pi / 2]), 2 * d, True
+        )
+        return bool((free[: len(heading)] + free[len(heading) :] < 2 * d).any())
+
+    def _pass_clear_of_contact(
+        self, ctx: PlanningContext, result: PlannerResult
+    ) -> PlannerResult | None:
+        """Timed passing at the contact distance (module docstring, (3b)), or None."""
+        radii = ctx.social.radii()
+        touch = float(radii.max()) + self.robot.circumscribed_radius
+        centre = np.hypot(*(ctx.social.positions() - ctx.pose[:2]).T)
+        if not bool((centre >= touch).all()):
+            return None  # someone is already nearer: giving way moves away first
+        if float(ctx.time) >= self._pass_until:
+            self._pass_ref = math.nan  # a new encounter: its retreat reference is set now
+        return self._timed_pass(ctx, result, touch)
 
     def _approaching(self, ctx: PlanningContext, trajs: Trajectories) -> np.ndarray:
         """``(N,)`` rollouts whose footprint moves toward a person it touches, turning
