@@ -320,36 +320,52 @@ def test_bug_pr2_hit_by_a_pair_from_behind_in_generated_hallway_dev_seed_126():
     assert [c.name for c in success_conditions(record) if c.required and not c.passed] == []
 
 
-def test_wall_clearance_looks_through_people_but_not_through_walls() -> None:
-    """``clearance(walls_only=True)``, which tells a corridor from a crowd for passing clear of
-    contact: across a 2.3 m corridor with someone standing 0.6 m to the robot's left, the ray
-    to the left stops at the person's inflated disc, or (walls only) where the footprint would
-    touch the wall behind them, 0.75 m out (1.15 m half width − 0.05 m wall − 0.325 m PR2
-    inscribed radius, to a cell)."""
+def _corridor(width: float, people: tuple, pose, length: float = 8.0):
+    """A ``width`` m corridor along x with ``people`` marked the way the navigator marks them
+    (discs grown by half a cell diagonal, inflated), the PR2 at ``pose``."""
     import sys
     from pathlib import Path
 
     sys.path.insert(0, str(Path(__file__).parent))
     from _planner_helpers import context, world
 
-    from socialnav.core.scene import Person, SocialContext
-    from socialnav.planner.recovery import clearance
+    from socialnav.core.scene import SocialContext
     from socialnav.world.costmap import add_obstacle_discs
 
-    walls = [[[0.0, 0.0], [8.0, 0.0]], [[0.0, 2.3], [8.0, 2.3]]]
-    cm, _ = world(8.0, 2.3, walls, PR2)
-    person = Person(1, (4.0, 1.75))
-    with_people = add_obstacle_discs(cm, [[4.0, 1.75, person.radius]], PR2.inscribed_radius)
-    ctx = context(with_people, PR2, pose=(4.0, 1.15, 0.0), social=SocialContext((person,)))
+    walls = [[[0.0, 0.0], [length, 0.0]], [[0.0, width], [length, width]]]
+    cm, _ = world(length, width, walls, PR2)
+    social = SocialContext(people)
+    if people:
+        grown = social.radii() + 0.05 * np.sqrt(2.0) / 2.0
+        cm = add_obstacle_discs(cm, np.column_stack([social.positions(), grown]), 0.325)
+    return context(cm, PR2, pose=pose, social=social)
+
+
+def test_wall_clearance_looks_through_people_but_not_through_walls() -> None:
+    """``clearance(walls_only=True)``, which tells a corridor from a crowd for passing clear of
+    contact: across a 2.3 m corridor with someone standing 0.6 m to the robot's left, the ray
+    to the left stops at the person's inflated disc, or (walls only) where the footprint would
+    touch the wall behind them, 0.75 m out (1.15 m half width − 0.05 m wall − 0.325 m PR2
+    inscribed radius, to a cell); so it does with the person standing against that wall."""
+    from socialnav.core.scene import Person
+    from socialnav.planner.recovery import clearance
+
     left_right = np.array([np.pi / 2, -np.pi / 2])
-    seen = clearance(ctx, left_right, 2.4)
-    walls_only = clearance(ctx, left_right, 2.4, walls_only=True)
-    assert seen[0] <= 0.1  # the person 0.6 m away, inflated by 0.575 m (to a cell)
-    assert walls_only[0] == pytest.approx(0.75, abs=0.05)
-    assert walls_only[1] == pytest.approx(0.75, abs=0.05)
-    assert seen[1] == pytest.approx(walls_only[1], abs=0.05)  # no one there: both to a cell
-    empty = context(cm, PR2, pose=(4.0, 1.15, 0.0))
-    assert np.array_equal(clearance(empty, left_right, 2.4, walls_only=True), walls_only)
+    empty = clearance(_corridor(2.3, (), (4.0, 1.15, 0.0)), left_right, 2.4, walls_only=True)
+    assert empty == pytest.approx([0.75, 0.75], abs=0.05)
+    for y in (1.75, 2.0):  # in the middle of the ray; against the wall
+        ctx = _corridor(2.3, (Person(1, (4.0, y)),), (4.0, 1.15, 0.0))
+        assert clearance(ctx, left_right, 2.4)[0] <= y - 1.15 - 0.5
+        assert np.array_equal(clearance(ctx, left_right, 2.4, walls_only=True), empty)
+    # people all round in the open (an 8 m hall, walls out of reach): no ray is stopped
+    ring = tuple(Person(i, (4.0 + np.cos(a), 4.0 + np.sin(a))) for i, a in enumerate(left_right))
+    open_hall = _corridor(8.0, ring, (4.0, 4.0, 0.0))
+    assert clearance(open_hall, left_right, 2.4, walls_only=True) == pytest.approx([2.4, 2.4])
+    # the edge of a local window is no wall; a zero range is no ray
+    edge = _corridor(2.3, (), (7.9, 1.15, 0.0))
+    assert clearance(edge, np.array([0.0]), 2.4, walls_only=True)[0] == pytest.approx(2.4)
+    assert clearance(edge, np.array([0.0]), 2.4)[0] < 0.2
+    assert clearance(edge, left_right, 0.0).tolist() == [0.0, 0.0]
 
 
 @pytest.mark.parametrize(
@@ -360,7 +376,7 @@ def test_passing_clear_of_contact_is_for_corridors_only(width, walled_in) -> Non
     """The fallback's gate: the walls across a walker's path (walking along the corridor)
     leave the PR2's centre less than 2 × 1.2 m from side to side: width − 0.1 m of wall −
     2 × 0.325 m inscribed radius, to a cell (3.0 m: 2.25 m; 3.6 m: 2.85 m). A walker crossing
-    the corridor sees its length instead; recorded crowds (open squares) never pass the gate."""
+    the corridor sees its length instead; a standing one has no path to be walled in across."""
     import sys
     from pathlib import Path
 
@@ -380,3 +396,38 @@ def test_passing_clear_of_contact_is_for_corridors_only(width, walled_in) -> Non
     assert planner._walled_in(ctx, np.array([[1.0, 0.0]])) is walled_in
     if width < 5.0:  # crossing: the corridor's length is across the walker's path
         assert planner._walled_in(ctx, np.array([[0.0, 1.0]])) is False
+    assert planner._walled_in(ctx, np.zeros((1, 2))) is False
+
+
+def test_passing_clear_of_contact_keeps_one_retreat_reference_per_encounter() -> None:
+    """The plan still to go when an encounter began is what ``passing_retreat`` is measured
+    from. The contact search reset it at every search once the walker was within 1.25 m (the
+    1.25 m search, which kept it, no longer runs then), so the robot could retreat 0.5 m per
+    search: from behind at 1.1 m/s in a 2.3 m corridor it was 9.01, then 7.59 and 7.22 m before
+    the walker had passed. Now the encounter lasts until they pass, with one reference."""
+    import sys
+    from pathlib import Path
+
+    sys.path.insert(0, str(Path(__file__).parent))
+    from _planner_helpers import step_pose, world
+
+    from socialnav.core.scene import Person, SocialContext
+    from socialnav.planner.presets import build_navigator
+
+    def people(t: float) -> tuple:
+        return (Person(1, (-0.5 + 1.1 * t, 1.15), (1.1, 0.0), 0.0),)
+
+    walls = [[[0.0, 0.0], [14.0, 0.0]], [[0.0, 2.3], [14.0, 2.3]]]
+    cm, _ = world(14.0, 2.3, walls, PR2)
+    nav = build_navigator("paccet", PR2, cm, np.array([11.0, 1.15, 0.0]), SocialContext(people(0)))
+    pose, vel, refs = np.array([2.0, 1.15, 0.0]), np.zeros(3), set()
+    for k in range(60):
+        walker = people(k * 0.1)
+        res = nav.step(k * 0.1, pose, vel, SocialContext(walker))
+        behind = walker[0].position[0] < pose[0]  # the encounter: until the walker is past
+        ref = float(nav.local_planner._pass_ref)  # nan: not set yet
+        if res.message.startswith("timed pass") and behind and np.isfinite(ref):
+            refs.add(round(ref, 6))
+        vel = res.cmd
+        pose = step_pose(pose, vel)
+    assert len(refs) == 1

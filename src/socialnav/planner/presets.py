@@ -399,10 +399,9 @@ MAX_RETREAT = 0.5
 #: corridor that leaves less than 2 × 1.2 m across a walker's path, where neither timed passing
 #: at 1.25 m nor giving way keeps the personal distance, timed passing again at the contact
 #: distance. Development seeds 0–199 of hallway (passes Pioneer / PR2, collision runs): before
-#: 192 / 187, 7; on 191 / 190, 3; without the corridor gate 190 / 190, 2, but recorded crowds
-#: 0–89 successes 354 → 349 and active-contact episodes 3 → 7 (with it: 354 and 3); gated on a
-#: walker from behind instead, 191 / 189, 3 and crowds 351, 5. Walker and other families
-#: unchanged. More in the CHANGELOG.
+#: 192 / 187, 7; on 191 / 190, 6; without the corridor gate 190 / 190, 2, but recorded crowds
+#: 0–89 successes 354 → 349 and active-contact episodes 3 → 7 (with it: unchanged); gated on a
+#: walker from behind instead, 191 / 189, 3 and crowds 351, 5. More in the CHANGELOG.
 RECOMMENDED_RECOVERY = RecoveryParams(
     evasion_personal_distance=1.2,
     evasion_personal_time=6.0,

@@ -45,17 +45,23 @@ Behaviour (parameters in :class:`RecoveryParams`, ROS/Nav2 names, budgets in sec
   (:func:`~socialnav.planner.passing.follow_plan`). A sequence that ends more than
   ``passing_retreat`` m of plan farther from the goal than the encounter began is refused
   (keeping the distance by fleeing is not the robot's job), and giving way takes over.
-  (3b) *passing clear of contact* (``passing_contact_fallback``): in a corridor (the walls
-  across a triggering walker's path leave the robot's centre less than twice the personal
-  distance from side to side, people not counted) where giving way's best move is forecast to
-  come nearer than the personal distance too, timed passing searches again with the
-  distance at which a person would touch the robot in any orientation (person radius +
-  circumscribed radius) instead of ``passing_distance``, while nobody is nearer than that, and
-  its plan is commanded when it finds one. In a corridor that leaves no 1.2 m beside a walker
-  closing from behind, giving way's constant twists (then held) fell short: it chose a
-  different one nearly every cycle and the robot never got out of the lane, while a timed
-  sequence (drive on and sidestep, wait, cross after the walker) keeps clear. The search
-  still maximises the closest approach (``PassingParams.comfort``).
+  (3b) *passing clear of contact* (``passing_contact_fallback``; part of giving way, so it
+  needs ``evasion_hold_step`` > 0 and ``passing_distance`` > 0, and it is under timed
+  passing's few-people gate): in a corridor — the walls across a triggering walker's path
+  (rays from the robot at right angles to the walker's velocity, people not counted:
+  :func:`clearance` with ``walls_only``) leave the robot's centre less than twice
+  ``evasion_personal_distance`` from side to side — where giving way's best move is forecast
+  to come nearer than that distance too, timed passing searches again keeping every centre
+  at the largest person radius + the circumscribed radius (where the robot's circumscribed
+  circle meets a person's disc: contact is possible from there, in the worst orientation)
+  instead of ``passing_distance``, while nobody is nearer than that; its plan is commanded
+  unless it retreats (``passing_retreat``, from the plan still to go when the encounter
+  began; the encounter lasts until the triggering walkers have passed the robot standing
+  still). The search still maximises the closest approach (``PassingParams.comfort``). In a
+  corridor that leaves no 1.2 m beside a walker closing from behind, giving way's constant
+  twists (then held) fell short: it chose a different one nearly every cycle and the robot
+  never got out of the lane, while a timed sequence (drive on and sidestep, wait, cross after
+  the walker) keeps clear. Head-on, it can do worse than giving way (CHANGELOG).
   (4) *no fleeing* (``evasion_max_retreat`` > 0), under timed passing's gate on the number
   of people near: at each giving-way decision, the moves that end more than
   ``evasion_max_retreat`` m farther from the goal (straight line) than the robot is now are
@@ -119,7 +125,11 @@ from socialnav.core.trajectories import Trajectories
 from socialnav.planner import kernels
 from socialnav.planner.context import PlanningContext
 from socialnav.planner.critics.group import GroupCritic
-from socialnav.planner.critics.interpersonal import footprint_approaches
+from socialnav.planner.critics.interpersonal import (
+    disc_offsets,
+    footprint_approaches,
+    foreign_lethal,
+)
 from socialnav.planner.critics.map_grid import densify_path, plan_ahead
 from socialnav.planner.critics.occupancy import OccupancyCritic
 from socialnav.planner.evasion import (
@@ -137,7 +147,7 @@ from socialnav.planner.passing import PassingParams, PassingPlan, follow_plan, t
 from socialnav.planner.protocols import LocalPlannerProtocol
 from socialnav.planner.record import EvaluationRecord
 from socialnav.planner.rollout import RolloutParams, rollout
-from socialnav.world.grid import INSCRIBED, LETHAL
+from socialnav.world.grid import FREE, INSCRIBED, LETHAL
 
 _ACTIVE = (PlannerStatus.OK, PlannerStatus.NO_LEGAL_TRAJECTORY)
 _AT_GOAL = (PlannerStatus.GOAL_REACHED, PlannerStatus.ROTATING_TO_GOAL)
@@ -168,8 +178,8 @@ class RecoveryParams:
     ``evasion_personal_distance`` (m; 1.2), ``evasion_personal_time`` (s), ``evasion_hold_step``
     (s; 1.0), ``passing_distance`` (m; 1.25) with ``passing_horizon`` (s),
     ``passing_retreat`` (m of plan), ``passing_max_people`` within ``passing_count_range`` (m);
-    ``passing_contact_fallback`` (bool; on): timed passing clear of contact in a corridor
-    where giving way cannot keep the personal distance either;
+    ``passing_contact_fallback`` (bool; ``paccet``: True): timed passing clear of contact in a
+    corridor where giving way cannot keep the personal distance either;
     ``evasion_max_retreat`` (m of straight-line distance to the goal; 0.5): no fleeing, under
     timed passing's gate; ``rotation_shim_threshold`` (rad, at most pi; pi/2): the rotation shim
     after an evasion, differential drive only, toward the plan's point
@@ -245,32 +255,36 @@ class RecoveryParams:
 def clearance(
     ctx: PlanningContext, headings: FloatArray, max_range: float, walls_only: bool = False
 ) -> FloatArray:
-    """Free distance (m) the robot's centre can move along rays ``(H,)`` world headings, up to
-    ``max_range``: to the first INSCRIBED/LETHAL/UNKNOWN cell. ``walls_only``: to the first
-    LETHAL/UNKNOWN cell that is no person's (farther than their radius + a cell from everyone)
-    less the inscribed radius, so people do not stop a ray (the local costmap marks them,
-    inflated like walls) but walls beside them do."""
-    res = ctx.costmap.resolution
-    reach = max_range + (ctx.robot.inscribed_radius if walls_only else 0.0)
-    d = np.arange(1, int(np.ceil(reach / res)) + 1) * res  # (R,)
+    """Free distance (m) the robot's centre can move along rays ``(H,)`` world headings: to the
+    last sample (every cell, up to ``max_range`` rounded up to a cell) before the first
+    INSCRIBED/LETHAL/UNKNOWN cell; off the map reads LETHAL. ``walls_only``: people do not
+    stop a ray (the local costmap marks them, inflated like walls): a blocked place near
+    someone stops it only with a LETHAL cell that is no person's own within the inscribed
+    radius (``critics.interpersonal.foreign_lethal``), so a wall beside them still does; off
+    the map (the edge of a local window) reads free; at most ``max_range``."""
+    cm = ctx.costmap
+    res = cm.resolution
+    d = np.arange(1, int(np.ceil(max_range / res)) + 1) * res  # (R,)
+    if d.size == 0:
+        return np.zeros(np.shape(headings))
     pts = (
         ctx.pose[:2]
         + d[None, :, None] * np.stack([np.cos(headings), np.sin(headings)], 1)[:, None, :]
     )
-    cost = ctx.costmap.cost_at(pts)  # (H, R); off-map reads LETHAL
-    if not walls_only:
-        blocked = cost >= INSCRIBED
-    else:
-        blocked = cost >= LETHAL
-        if ctx.social.people:
-            rel = pts[:, :, None, :] - ctx.social.positions()[None, None]
-            own = np.hypot(rel[..., 0], rel[..., 1]) <= ctx.social.radii() + res
-            blocked &= ~own.any(axis=2)
+    blocked = cm.cost_at(pts, outside=FREE if walls_only else LETHAL) >= INSCRIBED  # (H, R)
+    if walls_only and ctx.social.people and blocked.any():
+        pos, radii = ctx.social.positions(), ctx.social.radii()
+        inscribed = ctx.robot.inscribed_radius
+        rel = pts[:, :, None, :] - pos[None, None]
+        near = blocked & (np.hypot(rel[..., 0], rel[..., 1]) <= radii + inscribed + 2 * res).any(
+            axis=2
+        )
+        if near.any():
+            offsets = disc_offsets(inscribed, res)
+            blocked[near] = foreign_lethal(cm, pts[near], offsets, pos, radii)
     first = np.where(blocked.any(axis=1), blocked.argmax(axis=1), d.size)
     free = np.where(first > 0, d[np.maximum(first - 1, 0)], 0.0)
-    if walls_only:
-        free = np.clip(free - ctx.robot.inscribed_radius, 0.0, max_range)
-    return free
+    return np.minimum(free, max_range) if walls_only else free
 
 
 def person_gaps(ctx: PlanningContext) -> FloatArray:
@@ -673,7 +687,7 @@ class RecoveringPlanner:
         short = gaps[k] < float(clear.min()) - 1e-6  # nearer than the personal distance
         fallback = p.passing_contact_fallback and p.passing_distance > 0 and few and short
         if fallback and self._walled_in(ctx, vel[walkers]):
-            passed = self._pass_clear_of_contact(ctx, result)
+            passed = self._pass_clear_of_contact(ctx, result, float(ctx.time) + float(t_pass.max()))
             if passed is not None:
                 return passed
         if own[k] or gaps[k] <= float(gaps[own].max()) + 1e-3:
@@ -688,6 +702,9 @@ class RecoveringPlanner:
         side to the other (people not counted): a corridor too narrow to keep the personal
         distance beside a walker in its middle."""
         d = self.params.evasion_personal_distance
+        velocities = velocities[np.hypot(velocities[:, 0], velocities[:, 1]) > 1e-9]
+        if not velocities.size:
+            return False  # nobody walking: no path to be walled in across
         heading = np.arctan2(velocities[:, 1], velocities[:, 0])
         free = clearance(
             ctx, np.concatenate([heading + np.pi / 2, heading - np.pi / 2]), 2 * d, True
@@ -695,9 +712,11 @@ class RecoveringPlanner:
         return bool((free[: len(heading)] + free[len(heading) :] < 2 * d).any())
 
     def _pass_clear_of_contact(
-        self, ctx: PlanningContext, result: PlannerResult
+        self, ctx: PlanningContext, result: PlannerResult, until: float
     ) -> PlannerResult | None:
-        """Timed passing at the contact distance (module docstring, (3b)), or None."""
+        """Timed passing at the contact distance (module docstring, (3b)), or None; the
+        encounter lasts at least ``until`` (s: the triggering walkers have passed the robot),
+        and its retreat reference is kept until then."""
         radii = ctx.social.radii()
         touch = float(radii.max()) + self.robot.circumscribed_radius
         centre = np.hypot(*(ctx.social.positions() - ctx.pose[:2]).T)
@@ -705,6 +724,7 @@ class RecoveringPlanner:
             return None  # someone is already nearer: giving way moves away first
         if float(ctx.time) >= self._pass_until:
             self._pass_ref = math.nan  # a new encounter: its retreat reference is set now
+        self._pass_until = max(self._pass_until, until)
         return self._timed_pass(ctx, result, touch)
 
     def _approaching(self, ctx: PlanningContext, trajs: Trajectories) -> np.ndarray:

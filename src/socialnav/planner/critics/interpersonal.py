@@ -314,15 +314,15 @@ def passage_clearances(ctx: PlanningContext, threshold: float) -> FloatArray:
         to_walkers = np.hypot(*(pts[:, :, None] - pos[walkers]).transpose(3, 0, 1, 2))
         near = (to_walkers <= radii[walkers] + inscribed + 2 * res).any(axis=-1) & ~free
         if near.any():  # free unless a LETHAL cell not theirs is within the inscribed radius
-            offsets = _disc_offsets(inscribed, res)
-            free[near] = ~_foreign_lethal(cm, pts[near], offsets, pos[walkers], radii[walkers])
+            offsets = disc_offsets(inscribed, res)
+            free[near] = ~foreign_lethal(cm, pts[near], offsets, pos[walkers], radii[walkers])
     # Static obstacles end a cross-section on either side of the person; people do not. A
     # blocked place near someone standing is a wall only next to a LETHAL cell that is not a
     # person's own: a wall inside their inflation ends the cross-section too.
     near = ~free & (to_still <= radii.max() + inscribed + 2 * res)
     wall = ~free & ~near
     if near.any():
-        wall[near] = _foreign_lethal(cm, pts[near], _NEIGHBOURS, pos, radii)
+        wall[near] = foreign_lethal(cm, pts[near], _NEIGHBOURS, pos, radii)
     up, down = wall[:, middle:], wall[:, middle::-1]
     stop = np.where(up.any(axis=1), middle + up.argmax(axis=1), t.size)  # (P,) exclusive
     first = np.where(down.any(axis=1), middle - down.argmax(axis=1) + 1, 0)
@@ -368,7 +368,7 @@ def _room(
 _NEIGHBOURS = (np.repeat(np.arange(-1, 2), 3), np.tile(np.arange(-1, 2), 3))
 
 
-def _foreign_lethal(
+def foreign_lethal(
     cm: Costmap,
     places: FloatArray,
     offsets: tuple[NDArray[np.intp], NDArray[np.intp]],
@@ -390,7 +390,7 @@ def _foreign_lethal(
 
 
 @lru_cache(maxsize=8)
-def _disc_offsets(radius: float, res: float) -> tuple[NDArray[np.intp], NDArray[np.intp]]:
+def disc_offsets(radius: float, res: float) -> tuple[NDArray[np.intp], NDArray[np.intp]]:
     """Cell offsets ``(M,)`` rows and columns within ``radius`` (m) of a cell's centre."""
     n = int(np.ceil(radius / res))
     dr, dc = np.mgrid[-n : n + 1, -n : n + 1]
