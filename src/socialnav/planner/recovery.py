@@ -260,8 +260,10 @@ def clearance(
     INSCRIBED/LETHAL/UNKNOWN cell; off the map reads LETHAL. ``walls_only``: people do not
     stop a ray (the local costmap marks them, inflated like walls): a blocked place near
     someone stops it only with a LETHAL cell that is no person's own within the inscribed
-    radius (``critics.interpersonal.foreign_lethal``), so a wall beside them still does; off
-    the map (the edge of a local window) reads free; at most ``max_range``."""
+    radius (``critics.interpersonal.foreign_lethal``), so a wall beside them still does (a
+    thin wall a person touches can read up to a cell or two farther: its cells within their
+    radius + a cell count as theirs); off the costmap reads free (the navigator's cropped
+    window marks cells off the static map UNKNOWN, which stop a ray); at most ``max_range``."""
     cm = ctx.costmap
     res = cm.resolution
     d = np.arange(1, int(np.ceil(max_range / res)) + 1) * res  # (R,)
