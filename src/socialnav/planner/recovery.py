@@ -126,9 +126,8 @@ from socialnav.planner import kernels
 from socialnav.planner.context import PlanningContext
 from socialnav.planner.critics.group import GroupCritic
 from socialnav.planner.critics.interpersonal import (
-    disc_offsets,
     footprint_approaches,
-    foreign_lethal,
+    people_unblocked,
 )
 from socialnav.planner.critics.map_grid import densify_path, plan_ahead
 from socialnav.planner.critics.occupancy import OccupancyCritic
@@ -260,7 +259,7 @@ def clearance(
     INSCRIBED/LETHAL/UNKNOWN cell; off the map reads LETHAL. ``walls_only``: people do not
     stop a ray (the local costmap marks them, inflated like walls): a blocked place near
     someone stops it only with a LETHAL cell that is no person's own within the inscribed
-    radius (``critics.interpersonal.foreign_lethal``), so a wall beside them still does (a
+    radius (``critics.interpersonal.people_unblocked``), so a wall beside them still does (a
     thin wall a person touches can read up to a cell or two farther: its cells within their
     radius + a cell count as theirs); off the costmap reads free (the navigator's cropped
     window marks cells off the static map UNKNOWN, which stop a ray); at most ``max_range``."""
@@ -275,15 +274,8 @@ def clearance(
     )
     blocked = cm.cost_at(pts, outside=FREE if walls_only else LETHAL) >= INSCRIBED  # (H, R)
     if walls_only and ctx.social.people and blocked.any():
-        pos, radii = ctx.social.positions(), ctx.social.radii()
-        inscribed = ctx.robot.inscribed_radius
-        rel = pts[:, :, None, :] - pos[None, None]
-        near = blocked & (np.hypot(rel[..., 0], rel[..., 1]) <= radii + inscribed + 2 * res).any(
-            axis=2
-        )
-        if near.any():
-            offsets = disc_offsets(inscribed, res)
-            blocked[near] = foreign_lethal(cm, pts[near], offsets, pos, radii)
+        social, inscribed = ctx.social, ctx.robot.inscribed_radius
+        blocked = people_unblocked(cm, pts, blocked, social.positions(), social.radii(), inscribed)
     first = np.where(blocked.any(axis=1), blocked.argmax(axis=1), d.size)
     free = np.where(first > 0, d[np.maximum(first - 1, 0)], 0.0)
     return np.minimum(free, max_range) if walls_only else free

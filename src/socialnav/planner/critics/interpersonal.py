@@ -311,11 +311,7 @@ def passage_clearances(ctx: PlanningContext, threshold: float) -> FloatArray:
     free = cm.cost_at(pts) < INSCRIBED
     to_still = np.hypot(*(pts[:, :, None] - still).transpose(3, 0, 1, 2)).min(axis=-1)
     if walkers.size:
-        to_walkers = np.hypot(*(pts[:, :, None] - pos[walkers]).transpose(3, 0, 1, 2))
-        near = (to_walkers <= radii[walkers] + inscribed + 2 * res).any(axis=-1) & ~free
-        if near.any():  # free unless a LETHAL cell not theirs is within the inscribed radius
-            offsets = disc_offsets(inscribed, res)
-            free[near] = ~foreign_lethal(cm, pts[near], offsets, pos[walkers], radii[walkers])
+        free = ~people_unblocked(cm, pts, ~free, pos[walkers], radii[walkers], inscribed)
     # Static obstacles end a cross-section on either side of the person; people do not. A
     # blocked place near someone standing is a wall only next to a LETHAL cell that is not a
     # person's own: a wall inside their inflation ends the cross-section too.
@@ -387,6 +383,28 @@ def foreign_lethal(
     own = np.hypot(*(world[:, :, None] - people).transpose(3, 0, 1, 2)) <= radii + res
     found: NDArray[np.bool_] = (lethal & ~own.any(axis=-1)).any(axis=1)
     return found
+
+
+def people_unblocked(
+    cm: Costmap,
+    places: FloatArray,
+    blocked: NDArray[np.bool_],
+    people: FloatArray,
+    radii: FloatArray,
+    inscribed: float,
+) -> NDArray[np.bool_]:
+    """``blocked`` (a copy, shape of ``places (..., 2)`` without the last axis) with the places
+    near ``people (K, 2)`` (within their radius ``radii (K,)`` + ``inscribed`` + 2 cells)
+    blocked only where a LETHAL cell that is no person's own lies within ``inscribed`` m: the
+    costmap marks people inflated like walls, and this sees through them but not through a
+    wall beside them."""
+    out = blocked.copy()
+    res = cm.resolution
+    rel = places[..., None, :] - people
+    near = out & (np.hypot(rel[..., 0], rel[..., 1]) <= radii + inscribed + 2 * res).any(axis=-1)
+    if near.any():
+        out[near] = foreign_lethal(cm, places[near], disc_offsets(inscribed, res), people, radii)
+    return out
 
 
 @lru_cache(maxsize=8)
