@@ -17,8 +17,10 @@ from socialnav.planner.critics import (
     PathDistanceCritic,
 )
 from socialnav.planner.critics.map_grid import bfs_distance, local_plan_cells
+from socialnav.planner.rollout import RolloutParams, rollout
 from socialnav.world.grid import INSCRIBED, LETHAL, UNKNOWN, Costmap, GridGeometry
 from socialnav.world.inflation import circumscribed_cost, inflate
+from socialnav.world.raster import rasterize
 
 TINY = RobotModel("tiny", True, rectangle(0.04, 0.04), 0.5, -0.1, 0.3, 1.0, 2.5, 2.5, 3.2)
 
@@ -306,3 +308,78 @@ def test_permutation_equivariance(critic):
     np.testing.assert_array_equal(a.cost[perm], b.cost)
     for k in a.illegal:
         np.testing.assert_array_equal(np.asarray(a.illegal[k])[perm], b.illegal[k])
+
+
+def _thin_wall(robot, y=3.025):
+    """A wall line at ``y`` rasterized one cell thick (cells 3.00-3.05 m), inflated."""
+    geom = GridGeometry((80, 120), 0.05)
+    occ = rasterize(geom, segments=np.array([[[0.0, y], [6.0, y]]]))
+    assert occ.any(axis=1).sum() == 1  # one row: the case of a costmap's thin wall
+    return inflate(occ, geom, robot.inscribed_radius)
+
+
+def _footprint_top(robot, poses):
+    """Highest footprint point (m) of ``poses (..., 3)``."""
+    c, s = np.cos(poses[..., 2:3]), np.sin(poses[..., 2:3])
+    px, py = robot.polygon[:, 0], robot.polygon[:, 1]
+    return (poses[..., 1:2] + s * px + c * py).max(axis=-1)
+
+
+@pytest.mark.parametrize("robot", [PIONEER, PR2])
+@pytest.mark.parametrize("overlap", [0.005, 0.02, 0.04])
+@pytest.mark.parametrize("yaw", [np.pi, 3.0, 2.6])
+def test_bug_escape_from_overlap_pushed_a_corner_through_a_thin_wall(robot, overlap, yaw):
+    """Generated hallway dev seeds 24 and 78, Pioneer: the footprint touched a wall's LETHAL
+    cells, so the escape rule applied (legal when the clearance never decreases), and its
+    clearance, a signed distance from the LETHAL cells alone read per cell, is flat inside
+    a cell one cell thick and rises again beyond it. Turning or driving pushed a corner 3 cm
+    through the wall line. Whatever the robot does from there, no legal move crosses it."""
+    cm = _thin_wall(robot)
+    pose = np.array([3.0, 0.0, yaw])
+    pose[1] = 3.0 + overlap - (_footprint_top(robot, pose) - pose[1])  # overlaps the cell
+    v, vy, w = np.meshgrid(
+        np.linspace(robot.min_vel_x, robot.max_vel_x, 7),
+        np.linspace(-robot.max_vel_y, robot.max_vel_y, 3),
+        np.linspace(-robot.max_vel_theta, robot.max_vel_theta, 11),
+    )
+    twists = np.column_stack([v.ravel(), vy.ravel(), w.ravel()])
+    tr = rollout(pose, np.zeros(3), twists, robot, RolloutParams(2.0, 0.025, 0.05))
+    s = OccupancyCritic().score(tr, context(cm, robot, pose=tuple(pose)))
+    legal = ~s.illegal["collision"]
+    assert legal.any()  # it can always move away
+    # never across the wall line, nor deeper than at the start where already across it
+    assert (_footprint_top(robot, tr.poses[legal]) <= max(3.025, 3.0 + overlap) + 1e-9).all()
+
+
+def test_escape_from_overlap_lets_a_flush_differential_drive_turn_away():
+    """A Pioneer whose side just touches a wall's LETHAL cell cannot turn without a corner
+    swinging toward the wall; a shallow swing (short of the wall line) stays legal, else it
+    would be pinned to the wall, able only to drive along it."""
+    cm = _thin_wall(PIONEER)
+    pose = np.array([3.0, 3.0 + 0.001 - 0.19, np.pi])  # facing -x, the wall on its right
+    # A gentle arc away: the rear corner swings ~6 mm deeper before the arc lifts it; a spin.
+    twists = np.array([[0.3, 0.0, 0.08], [0.0, 0.0, 1.0]])
+    tr = rollout(pose, np.zeros(3), twists, PIONEER, RolloutParams(1.0, 0.025, 0.05))
+    s = OccupancyCritic().score(tr, context(cm, PIONEER, pose=tuple(pose)))
+    assert s.illegal["collision"].tolist() == [False, True]
+
+
+def test_the_wall_floor_reads_people_as_no_walls_and_the_far_side_of_a_wall_as_inside():
+    """The escape's wall check (``_above_wall_floor``) must leave the escape from people as it
+    was (a person who steps into the footprint is left by the per-cell rule alone: recorded
+    crowds lost 7 of 360 dev episodes to active contacts when people counted as walls), and
+    must see the far side of a thin wall as inside it."""
+    from socialnav.core.scene import Person, SocialContext
+    from socialnav.planner.critics.occupancy import _walls
+    from socialnav.world.costmap import add_obstacle_discs
+
+    cm = _thin_wall(PR2)
+    person = Person(1, (1.5, 2.0))
+    grown = person.radius + 0.05 * np.sqrt(2.0) / 2.0
+    cm = add_obstacle_discs(cm, np.array([[1.5, 2.0, grown]]), PR2.inscribed_radius)
+    ctx = context(cm, PR2, pose=(3.0, 2.0, 0.0), social=SocialContext((person,)))
+    walls = _walls(ctx, ctx.pose)
+    rc = lambda x, y: tuple(cm.geometry.world_to_cell(np.array([x, y])))  # noqa: E731
+    assert cm.costs[rc(1.5, 2.0)] == LETHAL and not walls[rc(1.5, 2.0)]  # the person's
+    assert walls[rc(3.0, 3.02)] and walls[rc(3.0, 3.5)]  # the wall's cell and beyond it
+    assert not walls[rc(3.0, 2.9)]  # this side of it

@@ -89,6 +89,7 @@ class CycleCache:
     occupancy_clearance: NDArray[np.uint16] | None = None
     occupancy_need: NDArray[np.intp] | None = None
     occupancy_sdf: FloatArray | None = None
+    occupancy_wall_sdf: FloatArray | None = None
     people_distances: PeopleDistances | None = None
 
     def reusable(self) -> CycleCache:
@@ -111,6 +112,7 @@ REUSABLE: tuple[str, ...] = (
     "occupancy_clearance",
     "occupancy_need",
     "occupancy_sdf",
+    "occupancy_wall_sdf",
     "footprint_cells",
     "passable_cells",
     "local_plan_cells",

@@ -34,7 +34,9 @@ Decisions and deviations:
   its clearance never decreases: the clearance of a pose is the smallest signed distance (m,
   from a distance transform of the LETHAL cells: positive outside, negative inside) over its
   footprint outline, and the centre's signed distance minus the inscribed radius, so driving
-  away from someone touching the robot is always possible; pushing deeper is not.
+  away from someone touching the robot is always possible; pushing deeper is not. Walls get a
+  second, exact check as well (``_above_wall_floor``): that per-cell distance is flat inside a
+  cell and rises again beyond a wall one cell thick, so a corner could be pushed through it.
 - Exact early exit: a trajectory whose outline hit a LETHAL cell is ``collision`` whatever its
   later poses do, so poses are checked in time chunks and such trajectories are dropped (an
   UNKNOWN hit does not stop the check: a later LETHAL hit still makes the reason
@@ -50,7 +52,7 @@ from typing import TYPE_CHECKING, ClassVar
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.ndimage import distance_transform_edt
+from scipy.ndimage import distance_transform_edt, label, map_coordinates
 
 from socialnav.core.geometry import FloatArray
 from socialnav.core.trajectories import Trajectories
@@ -114,7 +116,10 @@ class OccupancyCritic(Critic):
         if collision.any() and _start_in_collision(ctx, trajs.poses[0, 0], self.footprint):
             # Escape from overlap: starting in collision, a trajectory that never reduces its
             # clearance is legal (module docstring), so the robot can always back away.
-            collision = ~_never_closer(ctx, trajs.poses, self.footprint)
+            collision = ~(
+                _never_closer(ctx, trajs.poses, self.footprint)
+                & _above_wall_floor(ctx, trajs.poses, self.footprint)
+            )
         illegal = collision | unknown
         if self.meter_scoring:
             worst = worst * geom.resolution
@@ -263,6 +268,88 @@ def _never_closer(ctx: PlanningContext, poses: FloatArray, footprint: bool) -> N
         ok[alive[~good]] = False
         alive, prev = alive[good], block[good, -1]
     return ok
+
+
+def _above_wall_floor(
+    ctx: PlanningContext, poses: FloatArray, footprint: bool
+) -> NDArray[np.bool_]:
+    """``(N,)``: along ``poses (N, T, 3)`` (escape from overlap) the clearance from the walls
+    never falls below ``min(its start, -SHALLOW_OVERLAP)``.
+
+    The walls are the LETHAL cells no person in ``ctx.social`` marks (their discs grown by a
+    half-cell diagonal, as the navigator marks them) and every cell that free space does not
+    join to the robot's own (4-connected): :func:`_never_closer` reads a signed distance per
+    cell, flat inside a cell and rising again beyond a wall one cell thick, so on its own it let
+    a corner be pushed through such a wall. Here the distance is interpolated between cell
+    centres and the far side is inside. A floor, not "never decreases": a robot braking beside
+    a wall may come a little nearer, and a differential-drive robot flush against one can still
+    turn (a corner swings toward the wall either way).
+    """
+    geom = ctx.costmap.geometry
+    res = geom.resolution
+    sdf = ctx.cache.occupancy_wall_sdf
+    if sdf is None:
+        blocked = _walls(ctx, poses[0, 0])
+        if blocked.all() or not blocked.any():
+            sdf = np.where(blocked, -res, _FAR)
+        else:
+            sdf = (distance_transform_edt(~blocked) - distance_transform_edt(blocked)) * res
+        ctx.cache.occupancy_wall_sdf = sdf
+    rows, cols = geom.shape
+    outline = footprint_outline(ctx.robot.polygon, res / 2) if footprint else np.zeros((0, 2))
+    p = np.asarray(poses, dtype=float)
+    x = np.concatenate([p[..., :1], p[..., :1] + _rotated(p, outline, 0)], axis=-1)
+    y = np.concatenate([p[..., 1:2], p[..., 1:2] + _rotated(p, outline, 1)], axis=-1)
+    fx = (x - geom.origin[0]) / res
+    fy = (y - geom.origin[1]) / res
+    # Bilinear between cell centres (index i is centre i + 0.5): within a cell the clearance
+    # still changes, so a corner cannot creep deeper into a LETHAL cell unseen.
+    at = np.stack([fy.ravel() - 0.5, fx.ravel() - 0.5])
+    value = map_coordinates(sdf, at, order=1, mode="nearest").reshape(fx.shape)
+    value = np.where((fy >= 0) & (fy < rows) & (fx >= 0) & (fx < cols), value, np.inf)
+    value[..., 0] -= ctx.robot.inscribed_radius
+    clearance = value.min(axis=-1)  # (N, T)
+    floor = np.minimum(clearance[:, :1], -SHALLOW_OVERLAP)
+    return (clearance >= floor - 1e-9).all(axis=1)
+
+
+def _rotated(poses: FloatArray, outline: FloatArray, axis: int) -> FloatArray:
+    """``(N, T, L)`` world-frame x (``axis`` 0) or y (1) offsets of the body-frame ``outline
+    (L, 2)`` at ``poses (N, T, 3)``."""
+    c, s = np.cos(poses[..., 2:3]), np.sin(poses[..., 2:3])
+    if axis == 0:
+        return c * outline[:, 0] - s * outline[:, 1]
+    return s * outline[:, 0] + c * outline[:, 1]
+
+
+def _walls(ctx: PlanningContext, pose: FloatArray) -> NDArray[np.bool_]:
+    """``(rows, cols)``: the LETHAL cells no person marks, and every cell free space does not
+    join to the cell of ``pose (3,)`` (4-connected; none when that cell is a wall itself)."""
+    cm = ctx.costmap
+    wall = cm.costs == LETHAL
+    if ctx.social.people and wall.any():
+        rc = np.argwhere(wall)
+        centres = cm.geometry.cell_to_world(rc)
+        grown = ctx.social.radii() + cm.resolution * (np.sqrt(2.0) / 2.0 + 1e-6)
+        rel = centres[:, None, :] - ctx.social.positions()[None]
+        theirs = (np.hypot(rel[..., 0], rel[..., 1]) <= grown[None]).any(axis=1)
+        wall[rc[theirs, 0], rc[theirs, 1]] = False
+    cell = cm.geometry.world_to_cell(np.asarray(pose[:2], dtype=float))
+    if not cm.geometry.in_bounds(cell) or wall[cell[0], cell[1]]:
+        return wall
+    labels, _ = label(~wall)
+    return labels != labels[cell[0], cell[1]]
+
+
+#: Escape from overlap (:func:`_above_wall_floor`): how far below zero (m) the clearance from
+#: the walls may fall. Interpolated between cell centres, it falls twice as fast as the
+#: distance across a wall one cell thick: 0.02 lets an outline point 1 cm into that cell, short
+#: of the wall line it was marked for (at least resolution · (√2 − 1) / 2 ≈ 1.04 cm in at 5 cm
+#: cells; ``world.raster``).
+SHALLOW_OVERLAP = 0.02
+
+#: Clearance (m) where the window has no wall: finite, so that interpolation stays exact.
+_FAR = 1e9
 
 
 @lru_cache(maxsize=16)
