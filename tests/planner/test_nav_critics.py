@@ -7,6 +7,7 @@ import pytest
 from _planner_helpers import blank, context, straight
 
 from socialnav.core.robot import PIONEER, PR2, RobotModel, rectangle
+from socialnav.core.scene import Person, SocialContext
 from socialnav.core.trajectories import Trajectories
 from socialnav.planner.critics import (
     CRITICS,
@@ -18,6 +19,7 @@ from socialnav.planner.critics import (
 )
 from socialnav.planner.critics.map_grid import bfs_distance, local_plan_cells
 from socialnav.planner.rollout import RolloutParams, rollout
+from socialnav.world.costmap import add_obstacle_discs
 from socialnav.world.grid import INSCRIBED, LETHAL, UNKNOWN, Costmap, GridGeometry
 from socialnav.world.inflation import circumscribed_cost, inflate
 from socialnav.world.raster import rasterize
@@ -326,15 +328,26 @@ def _footprint_top(robot, poses):
 
 
 @pytest.mark.parametrize("robot", [PIONEER, PR2])
-@pytest.mark.parametrize("overlap", [0.005, 0.02, 0.04])
+@pytest.mark.parametrize("overlap", [0.005, 0.02, 0.025, 0.04])
 @pytest.mark.parametrize("yaw", [np.pi, 3.0, 2.6])
-def test_bug_escape_from_overlap_pushed_a_corner_through_a_thin_wall(robot, overlap, yaw):
+@pytest.mark.parametrize("leaning", [False, True])
+def test_bug_escape_from_overlap_pushed_a_corner_through_a_thin_wall(robot, overlap, yaw, leaning):
     """Generated hallway dev seeds 24 and 78, Pioneer: the footprint touched a wall's LETHAL
     cells, so the escape rule applied (legal when the clearance never decreases), and its
     clearance, a signed distance from the LETHAL cells alone read per cell, is flat inside
     a cell one cell thick and rises again beyond it. Turning or driving pushed a corner 3 cm
-    through the wall line. Whatever the robot does from there, no legal move crosses it."""
+    through the wall line. Whatever the robot does from there, no legal move crosses it, nor
+    when someone leans on the same wall 2.5 m away (a newcomer trial: the person's cells had
+    opened a way round to the far side, which then read as free)."""
     cm = _thin_wall(robot)
+    social = SocialContext()
+    if leaning:
+        person = Person(1, (0.5, 3.0 - 0.25 - 0.005))
+        grown = person.radius + 0.05 * np.sqrt(2.0) / 2.0
+        cm = add_obstacle_discs(
+            cm, np.array([[0.5, person.position[1], grown]]), robot.inscribed_radius
+        )
+        social = SocialContext((person,))
     pose = np.array([3.0, 0.0, yaw])
     pose[1] = 3.0 + overlap - (_footprint_top(robot, pose) - pose[1])  # overlaps the cell
     v, vy, w = np.meshgrid(
@@ -344,7 +357,7 @@ def test_bug_escape_from_overlap_pushed_a_corner_through_a_thin_wall(robot, over
     )
     twists = np.column_stack([v.ravel(), vy.ravel(), w.ravel()])
     tr = rollout(pose, np.zeros(3), twists, robot, RolloutParams(2.0, 0.025, 0.05))
-    s = OccupancyCritic().score(tr, context(cm, robot, pose=tuple(pose)))
+    s = OccupancyCritic().score(tr, context(cm, robot, pose=tuple(pose), social=social))
     legal = ~s.illegal["collision"]
     assert legal.any()  # it can always move away
     # never across the wall line, nor deeper than at the start where already across it
@@ -369,9 +382,7 @@ def test_the_wall_floor_reads_people_as_no_walls_and_the_far_side_of_a_wall_as_i
     was (a person who steps into the footprint is left by the per-cell rule alone: recorded
     crowds lost 7 of 360 dev episodes to active contacts when people counted as walls), and
     must see the far side of a thin wall as inside it."""
-    from socialnav.core.scene import Person, SocialContext
     from socialnav.planner.critics.occupancy import _walls
-    from socialnav.world.costmap import add_obstacle_discs
 
     cm = _thin_wall(PR2)
     person = Person(1, (1.5, 2.0))
@@ -383,3 +394,25 @@ def test_the_wall_floor_reads_people_as_no_walls_and_the_far_side_of_a_wall_as_i
     assert cm.costs[rc(1.5, 2.0)] == LETHAL and not walls[rc(1.5, 2.0)]  # the person's
     assert walls[rc(3.0, 3.02)] and walls[rc(3.0, 3.5)]  # the wall's cell and beyond it
     assert not walls[rc(3.0, 2.9)]  # this side of it
+
+
+def test_the_wall_clearance_is_not_carried_to_a_cycle_with_other_people():
+    """The prepared data a cycle leaves for the next with the same costmap and pose may not hold
+    the walls' clearance: which LETHAL cells are walls depends on where the tracked people are
+    (a costmap without people marks stays the same when they move; newcomer trial)."""
+    from socialnav.planner.objectives import PreparedReuse
+
+    cm = _thin_wall(PR2)
+    pose = (3.0, 3.0 + 0.01 - 0.325, 0.0)
+    critics = (OccupancyCritic(),)
+    leaning = SocialContext((Person(1, (1.0, 2.77)),))
+    first = context(cm, PR2, pose=pose, social=leaning)
+    tr = straight(np.array([[2.8, pose[1]]]), start=pose[:2])  # along the wall, touching it
+    assert not critics[0].score(tr, first).illegal["collision"][0]  # by the escape rule
+    assert first.cache.occupancy_wall_sdf is not None
+    reuse = PreparedReuse()
+    reuse.keep(reuse.key(first, critics), first)
+    second = context(cm, PR2, pose=pose, social=SocialContext())
+    reuse.restore(second, critics)
+    assert second.cache.occupancy_sdf is not None  # the same costmap's data is reused
+    assert second.cache.occupancy_wall_sdf is None

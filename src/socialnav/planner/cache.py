@@ -71,7 +71,9 @@ class CycleCache:
     - Occupancy (:mod:`~socialnav.planner.critics.occupancy`): ``occupancy_outline (K, 2)`` body
       frame (m, far first) and its radii ``occupancy_outline_rho (K,)`` (cells),
       ``occupancy_codes`` the padded hit-code map and its pad (cells), ``occupancy_clearance
-      (rows, cols)`` index into ``occupancy_need (L,)``, ``occupancy_sdf (rows, cols)`` (m).
+      (rows, cols)`` index into ``occupancy_need (L,)``, ``occupancy_sdf (rows, cols)`` (m),
+      ``occupancy_wall_sdf (rows, cols)`` (m; it depends on the tracked people too, so it is
+      not reusable).
     - ``people_distances``: :class:`PeopleDistances` of the last scored batch.
     """
 
@@ -112,7 +114,6 @@ REUSABLE: tuple[str, ...] = (
     "occupancy_clearance",
     "occupancy_need",
     "occupancy_sdf",
-    "occupancy_wall_sdf",
     "footprint_cells",
     "passable_cells",
     "local_plan_cells",

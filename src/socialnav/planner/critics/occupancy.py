@@ -35,7 +35,7 @@ Decisions and deviations:
   from a distance transform of the LETHAL cells: positive outside, negative inside) over its
   footprint outline, and the centre's signed distance minus the inscribed radius, so driving
   away from someone touching the robot is always possible; pushing deeper is not. Walls get a
-  second, exact check as well (``_above_wall_floor``): that per-cell distance is flat inside a
+  second check as well (``_above_wall_floor``): that per-cell distance is flat inside a
   cell and rises again beyond a wall one cell thick, so a corner could be pushed through it.
 - Exact early exit: a trajectory whose outline hit a LETHAL cell is ``collision`` whatever its
   later poses do, so poses are checked in time chunks and such trajectories are dropped (an
@@ -116,10 +116,8 @@ class OccupancyCritic(Critic):
         if collision.any() and _start_in_collision(ctx, trajs.poses[0, 0], self.footprint):
             # Escape from overlap: starting in collision, a trajectory that never reduces its
             # clearance is legal (module docstring), so the robot can always back away.
-            collision = ~(
-                _never_closer(ctx, trajs.poses, self.footprint)
-                & _above_wall_floor(ctx, trajs.poses, self.footprint)
-            )
+            legal = _never_closer(ctx, trajs.poses, self.footprint)
+            collision = ~_above_wall_floor(ctx, trajs.poses, self.footprint, legal)
         illegal = collision | unknown
         if self.meter_scoring:
             worst = worst * geom.resolution
@@ -271,20 +269,27 @@ def _never_closer(ctx: PlanningContext, poses: FloatArray, footprint: bool) -> N
 
 
 def _above_wall_floor(
-    ctx: PlanningContext, poses: FloatArray, footprint: bool
+    ctx: PlanningContext, poses: FloatArray, footprint: bool, candidates: NDArray[np.bool_]
 ) -> NDArray[np.bool_]:
-    """``(N,)``: along ``poses (N, T, 3)`` (escape from overlap) the clearance from the walls
-    never falls below ``min(its start, -SHALLOW_OVERLAP)``.
+    """``(N,)``: the ``candidates (N,)`` among ``poses (N, T, 3)`` (escape from overlap) whose
+    clearance from the walls never falls below ``min(its start, -SHALLOW_OVERLAP)``.
 
-    The walls are the LETHAL cells no person in ``ctx.social`` marks (their discs grown by a
-    half-cell diagonal, as the navigator marks them) and every cell that free space does not
-    join to the robot's own (4-connected): :func:`_never_closer` reads a signed distance per
-    cell, flat inside a cell and rising again beyond a wall one cell thick, so on its own it let
-    a corner be pushed through such a wall. Here the distance is interpolated between cell
-    centres and the far side is inside. A floor, not "never decreases": a robot braking beside
-    a wall may come a little nearer, and a differential-drive robot flush against one can still
-    turn (a corner swings toward the wall either way).
+    The walls (:func:`_walls`) are the LETHAL cells no tracked person marks and the free cells
+    that free space does not join to the robot's own: :func:`_never_closer` reads a signed
+    distance per cell, flat inside a cell and rising again beyond a wall one cell thick, so on
+    its own it let a corner be pushed through such a wall. Here the distance is interpolated
+    between cell centres (checked at the poses and at outline points a cell apart: the deepest
+    point of a convex footprint against a straight wall is a vertex). A floor, not "never
+    decreases": a robot braking beside a wall may come a little nearer, and one flush against
+    a wall can still make a gentle turn. Known limit: a wall one cell thick whose far side
+    free space joins to the robot's within the window (a free-standing partition, a wall's
+    end) with the footprint already at its line: the clearance is lowest on the line, so a
+    corner there can be pushed across.
     """
+    ok = candidates.copy()
+    idx = np.flatnonzero(ok)
+    if not idx.size:
+        return ok
     geom = ctx.costmap.geometry
     res = geom.resolution
     sdf = ctx.cache.occupancy_wall_sdf
@@ -295,38 +300,48 @@ def _above_wall_floor(
         else:
             sdf = (distance_transform_edt(~blocked) - distance_transform_edt(blocked)) * res
         ctx.cache.occupancy_wall_sdf = sdf
-    rows, cols = geom.shape
-    outline = footprint_outline(ctx.robot.polygon, res / 2) if footprint else np.zeros((0, 2))
-    p = np.asarray(poses, dtype=float)
-    x = np.concatenate([p[..., :1], p[..., :1] + _rotated(p, outline, 0)], axis=-1)
-    y = np.concatenate([p[..., 1:2], p[..., 1:2] + _rotated(p, outline, 1)], axis=-1)
-    fx = (x - geom.origin[0]) / res
-    fy = (y - geom.origin[1]) / res
-    # Bilinear between cell centres (index i is centre i + 0.5): within a cell the clearance
-    # still changes, so a corner cannot creep deeper into a LETHAL cell unseen.
-    at = np.stack([fy.ravel() - 0.5, fx.ravel() - 0.5])
-    value = map_coordinates(sdf, at, order=1, mode="nearest").reshape(fx.shape)
-    value = np.where((fy >= 0) & (fy < rows) & (fx >= 0) & (fx < cols), value, np.inf)
-    value[..., 0] -= ctx.robot.inscribed_radius
-    clearance = value.min(axis=-1)  # (N, T)
-    floor = np.minimum(clearance[:, :1], -SHALLOW_OVERLAP)
-    return (clearance >= floor - 1e-9).all(axis=1)
+    outline = footprint_outline(ctx.robot.polygon, res) if footprint else np.zeros((0, 2))
 
+    def value(xy: FloatArray) -> FloatArray:
+        """Interpolated wall clearance at world points ``xy (..., 2)`` (off the map: inf)."""
+        f = (xy - np.asarray(geom.origin)) / res
+        # index i is the centre of cell i, at i + 0.5 cells
+        at = np.stack([f[..., 1].ravel() - 0.5, f[..., 0].ravel() - 0.5])
+        v = map_coordinates(sdf, at, order=1, mode="nearest").reshape(f.shape[:-1])
+        on = (f[..., 0] >= 0) & (f[..., 0] < geom.shape[1]) & (f[..., 1] >= 0)
+        return np.where(on & (f[..., 1] < geom.shape[0]), v, np.inf)
 
-def _rotated(poses: FloatArray, outline: FloatArray, axis: int) -> FloatArray:
-    """``(N, T, L)`` world-frame x (``axis`` 0) or y (1) offsets of the body-frame ``outline
-    (L, 2)`` at ``poses (N, T, 3)``."""
-    c, s = np.cos(poses[..., 2:3]), np.sin(poses[..., 2:3])
-    if axis == 0:
-        return c * outline[:, 0] - s * outline[:, 1]
-    return s * outline[:, 0] + c * outline[:, 1]
+    def clearance(p: FloatArray) -> FloatArray:
+        """``(Q,)`` wall clearance of poses ``p (Q, 3)``: the outline's and the centre's."""
+        c, s = np.cos(p[:, 2:3]), np.sin(p[:, 2:3])
+        pts = np.stack(
+            [
+                p[:, :1] + c * outline[:, 0] - s * outline[:, 1],
+                p[:, 1:2] + s * outline[:, 0] + c * outline[:, 1],
+            ],
+            axis=-1,
+        )
+        centre = value(p[:, :2]) - ctx.robot.inscribed_radius
+        return np.minimum(centre, value(pts).min(axis=-1)) if outline.size else centre
+
+    p = np.asarray(poses[idx], dtype=float)  # (M, T, 3)
+    floor = min(float(clearance(p[0, :1])[0]), -SHALLOW_OVERLAP) - 1e-9
+    # The interpolated distance changes at most √2 per unit: a pose whose centre is that far
+    # beyond the circumscribed radius from every wall cannot reach the floor (below zero).
+    near = value(p[..., :2]) < np.sqrt(2.0) * ctx.robot.circumscribed_radius
+    low = np.zeros(near.shape, dtype=bool)
+    low[near] = clearance(p[near]) < floor
+    ok[idx[low.any(axis=1)]] = False
+    return ok
 
 
 def _walls(ctx: PlanningContext, pose: FloatArray) -> NDArray[np.bool_]:
-    """``(rows, cols)``: the LETHAL cells no person marks, and every cell free space does not
-    join to the cell of ``pose (3,)`` (4-connected; none when that cell is a wall itself)."""
+    """``(rows, cols)``: the LETHAL cells no tracked person marks, and the free cells that free
+    space does not join to the cell of ``pose (3,)`` (4-connected; people's cells block the
+    way too, so a person against a thin wall opens no way round it)."""
     cm = ctx.costmap
-    wall = cm.costs == LETHAL
+    lethal = cm.costs == LETHAL
+    wall = lethal.copy()
     if ctx.social.people and wall.any():
         rc = np.argwhere(wall)
         centres = cm.geometry.cell_to_world(rc)
@@ -335,10 +350,10 @@ def _walls(ctx: PlanningContext, pose: FloatArray) -> NDArray[np.bool_]:
         theirs = (np.hypot(rel[..., 0], rel[..., 1]) <= grown[None]).any(axis=1)
         wall[rc[theirs, 0], rc[theirs, 1]] = False
     cell = cm.geometry.world_to_cell(np.asarray(pose[:2], dtype=float))
-    if not cm.geometry.in_bounds(cell) or wall[cell[0], cell[1]]:
+    if not cm.geometry.in_bounds(cell) or lethal[cell[0], cell[1]]:
         return wall
-    labels, _ = label(~wall)
-    return labels != labels[cell[0], cell[1]]
+    labels, _ = label(~lethal)
+    return wall | ((labels != labels[cell[0], cell[1]]) & ~lethal)
 
 
 #: Escape from overlap (:func:`_above_wall_floor`): how far below zero (m) the clearance from
