@@ -320,6 +320,22 @@ def test_bug_pr2_hit_by_a_pair_from_behind_in_generated_hallway_dev_seed_126():
     assert [c.name for c in success_conditions(record) if c.required and not c.passed] == []
 
 
+def test_bug_pr2_overtaken_by_three_in_a_3_44_m_corridor_generated_hallway_dev_seed_134():
+    """Generated hallway dev seed 134, PR2: three walkers overtake at 0.64-0.92 m/s in a
+    3.44 m corridor, whose walls leave the robot's centre about 2.8 m across their path: more
+    than the 2 × 1.2 m the contact fallback first required, so giving way alone let one of
+    them walk into it (0.23 m deep). With ``passing_contact_corridor`` at 3.0 m it arrives
+    without contact."""
+    from socialnav.sim.generate import generate
+    from socialnav.sim.runner import run_episode
+    from socialnav.sim.stack import StackController
+
+    record = run_episode(
+        generate("hallway", 134), StackController("paccet"), "pr2", seed=134
+    ).record
+    assert not np.any(record.collision_person) and not np.any(record.collision_obstacle)
+
+
 def _corridor(width: float, people: tuple, pose, length: float = 8.0):
     """A ``width`` m corridor along x with ``people`` marked the way the navigator marks them
     (discs grown by half a cell diagonal, inflated), the PR2 at ``pose``."""
@@ -370,12 +386,13 @@ def test_wall_clearance_looks_through_people_but_not_through_walls() -> None:
 
 @pytest.mark.parametrize(
     ("width", "walled_in"),
-    [(2.3, True), (3.0, True), (3.6, False), (8.0, False)],
+    [(2.3, True), (3.0, True), (3.6, True), (3.9, False), (8.0, False)],
 )
 def test_passing_clear_of_contact_is_for_corridors_only(width, walled_in) -> None:
     """The fallback's gate: the walls across a walker's path (walking along the corridor)
-    leave the PR2's centre less than 2 × 1.2 m from side to side: width − 0.1 m of wall −
-    2 × 0.325 m inscribed radius, to a cell (3.0 m: 2.25 m; 3.6 m: 2.85 m). A walker crossing
+    leave the PR2's centre less than ``passing_contact_corridor`` (3.0 m) from side to side:
+    width − 0.1 m of wall − 2 × 0.325 m inscribed radius, to a cell (3.6 m: 2.85 m; 3.9 m:
+    3.15 m). A walker crossing
     the corridor sees its length instead; a standing one has no path to be walled in across."""
     import sys
     from pathlib import Path

@@ -396,12 +396,14 @@ DETOUR_LIMIT = 0.5
 #: local costmap holds people too, so the arc also ran beside them).
 MAX_RETREAT = 0.5
 #: ``paccet``'s passing clear of contact (``RecoveryParams.passing_contact_fallback``): in a
-#: corridor that leaves less than 2 × 1.2 m across a walker's path, where neither timed passing
+#: corridor that leaves less than 3 m across a walker's path, where neither timed passing
 #: at 1.25 m nor giving way keeps the personal distance, timed passing again at the contact
 #: distance. Development seeds 0–199 of hallway (passes Pioneer / PR2, collision runs): before
 #: 192 / 187, 7; on 191 / 190, 6; without the corridor gate 190 / 190, 2, but recorded crowds
 #: 0–89 successes 354 → 349 and active-contact episodes 3 → 7 (with it: unchanged); gated on a
-#: walker from behind instead, 191 / 189, 3 and crowds 351, 5. More in the CHANGELOG.
+#: walker from behind instead, 191 / 189, 3 and crowds 351, 5. The corridor
+#: (``passing_contact_corridor``) 3.0 m across instead of 2 × 1.2 m, measured with the escape's
+#: wall check: hallway 191 / 190, 4 → 191 / 190, 2; crowds identical. More in the CHANGELOG.
 RECOMMENDED_RECOVERY = RecoveryParams(
     evasion_personal_distance=1.2,
     evasion_personal_time=6.0,

@@ -49,8 +49,8 @@ Behaviour (parameters in :class:`RecoveryParams`, ROS/Nav2 names, budgets in sec
   needs ``evasion_hold_step`` > 0 and ``passing_distance`` > 0, and it is under timed
   passing's few-people gate): in a corridor — the walls across a triggering walker's path
   (rays from the robot at right angles to the walker's velocity, people not counted:
-  :func:`clearance` with ``walls_only``) leave the robot's centre less than twice
-  ``evasion_personal_distance`` from side to side — where giving way's best move is forecast
+  :func:`clearance` with ``walls_only``) leave the robot's centre less than
+  ``passing_contact_corridor`` m (3.0) from side to side — where giving way's best move is forecast
   to come nearer than that distance too, timed passing searches again keeping every centre
   at the largest person radius + the circumscribed radius (where the robot's circumscribed
   circle meets a person's disc: contact is possible from there, in the worst orientation)
@@ -178,7 +178,8 @@ class RecoveryParams:
     (s; 1.0), ``passing_distance`` (m; 1.25) with ``passing_horizon`` (s),
     ``passing_retreat`` (m of plan), ``passing_max_people`` within ``passing_count_range`` (m);
     ``passing_contact_fallback`` (bool; ``paccet``: True): timed passing clear of contact in a
-    corridor where giving way cannot keep the personal distance either;
+    corridor where giving way cannot keep the personal distance either, one that leaves the
+    robot's centre less than ``passing_contact_corridor`` (m; 3.0) across a walker's path;
     ``evasion_max_retreat`` (m of straight-line distance to the goal; 0.5): no fleeing, under
     timed passing's gate; ``rotation_shim_threshold`` (rad, at most pi; pi/2): the rotation shim
     after an evasion, differential drive only, toward the plan's point
@@ -212,6 +213,7 @@ class RecoveryParams:
     passing_max_people: int = 3
     passing_count_range: float = 10.0
     passing_contact_fallback: bool = False  # off; paccet on (needs passing_distance > 0)
+    passing_contact_corridor: float = 3.0
     evasion_max_retreat: float = 0.0
     rotation_shim_threshold: float = 0.0
     rotation_shim_lookahead: float = 0.5
@@ -692,18 +694,18 @@ class RecoveringPlanner:
 
     def _walled_in(self, ctx: PlanningContext, velocities: FloatArray) -> bool:
         """Whether the walls across the path of any of the walkers (``velocities (W, 2)`` m/s,
-        world frame) leave the robot's centre less than twice the personal distance from one
+        world frame) leave the robot's centre less than ``passing_contact_corridor`` m from one
         side to the other (people not counted): a corridor too narrow to keep the personal
-        distance beside a walker in its middle."""
-        d = self.params.evasion_personal_distance
+        distance beside a walker in its middle, or little wider."""
+        width = self.params.passing_contact_corridor
         velocities = velocities[np.hypot(velocities[:, 0], velocities[:, 1]) > 1e-9]
         if not velocities.size:
             return False  # nobody walking: no path to be walled in across
         heading = np.arctan2(velocities[:, 1], velocities[:, 0])
         free = clearance(
-            ctx, np.concatenate([heading + np.pi / 2, heading - np.pi / 2]), 2 * d, True
+            ctx, np.concatenate([heading + np.pi / 2, heading - np.pi / 2]), width, True
         )
-        return bool((free[: len(heading)] + free[len(heading) :] < 2 * d).any())
+        return bool((free[: len(heading)] + free[len(heading) :] < width).any())
 
     def _pass_clear_of_contact(
         self, ctx: PlanningContext, result: PlannerResult, until: float
