@@ -322,7 +322,7 @@ def test_bug_pr2_hit_by_a_pair_from_behind_in_generated_hallway_dev_seed_126():
 
 def test_bug_pr2_overtaken_by_three_in_a_3_44_m_corridor_generated_hallway_dev_seed_134():
     """Generated hallway dev seed 134, PR2: three walkers overtake at 0.64-0.92 m/s in a
-    3.44 m corridor, whose walls leave the robot's centre about 2.8 m across their path: more
+    3.44 m corridor, whose walls leave the robot's centre about 2.7 m across their path: more
     than the 2 × 1.2 m the contact fallback first required, so giving way alone let one of
     them walk into it (0.23 m deep). With ``passing_contact_corridor`` at 3.0 m it arrives
     without contact."""

@@ -50,8 +50,9 @@ Behaviour (parameters in :class:`RecoveryParams`, ROS/Nav2 names, budgets in sec
   passing's few-people gate): in a corridor — the walls across a triggering walker's path
   (rays from the robot at right angles to the walker's velocity, people not counted:
   :func:`clearance` with ``walls_only``) leave the robot's centre less than
-  ``passing_contact_corridor`` m (3.0) from side to side — where giving way's best move is forecast
-  to come nearer than that distance too, timed passing searches again keeping every centre
+  ``passing_contact_corridor`` m (3.0) from side to side — where giving way's best move is
+  forecast to come nearer than ``evasion_personal_distance`` too, timed passing searches again
+  keeping every centre
   at the largest person radius + the circumscribed radius (where the robot's circumscribed
   circle meets a person's disc: contact is possible from there, in the worst orientation)
   instead of ``passing_distance``, while nobody is nearer than that; its plan is commanded
@@ -179,7 +180,8 @@ class RecoveryParams:
     ``passing_retreat`` (m of plan), ``passing_max_people`` within ``passing_count_range`` (m);
     ``passing_contact_fallback`` (bool; ``paccet``: True): timed passing clear of contact in a
     corridor where giving way cannot keep the personal distance either, one that leaves the
-    robot's centre less than ``passing_contact_corridor`` (m; 3.0) across a walker's path;
+    robot's centre less than ``passing_contact_corridor`` (m; 3.0 in every preset, only used
+    with the fallback on; 0 never counts as a corridor) across a walker's path;
     ``evasion_max_retreat`` (m of straight-line distance to the goal; 0.5): no fleeing, under
     timed passing's gate; ``rotation_shim_threshold`` (rad, at most pi; pi/2): the rotation shim
     after an evasion, differential drive only, toward the plan's point
