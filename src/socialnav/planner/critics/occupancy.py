@@ -223,11 +223,7 @@ def _never_closer(ctx: PlanningContext, poses: FloatArray, footprint: bool) -> N
     res = geom.resolution
     sdf = ctx.cache.occupancy_sdf
     if sdf is None:
-        lethal = ctx.costmap.costs == LETHAL
-        if lethal.all() or not lethal.any():
-            sdf = np.where(lethal, -res, np.inf)
-        else:
-            sdf = (distance_transform_edt(~lethal) - distance_transform_edt(lethal)) * res
+        sdf = _signed_distance(ctx.costmap.costs == LETHAL, res, np.inf)
         ctx.cache.occupancy_sdf = sdf
     rows, cols = geom.shape
     inv = 1.0 / res
@@ -294,11 +290,7 @@ def _above_wall_floor(
     res = geom.resolution
     sdf = ctx.cache.occupancy_wall_sdf
     if sdf is None:
-        blocked = _walls(ctx, poses[0, 0])
-        if blocked.all() or not blocked.any():
-            sdf = np.where(blocked, -res, _FAR)
-        else:
-            sdf = (distance_transform_edt(~blocked) - distance_transform_edt(blocked)) * res
+        sdf = _signed_distance(_walls(ctx, poses[0, 0]), res, _FAR)
         ctx.cache.occupancy_wall_sdf = sdf
     outline = footprint_outline(ctx.robot.polygon, res) if footprint else np.zeros((0, 2))
 
@@ -333,6 +325,15 @@ def _above_wall_floor(
     low[near] = clearance(p[near]) < floor
     ok[idx[low.any(axis=1)]] = False
     return ok
+
+
+def _signed_distance(inside: NDArray[np.bool_], res: float, far: float) -> FloatArray:
+    """``(rows, cols)`` signed distance (m) of each cell centre to the boundary of ``inside``
+    (positive outside, negative inside); ``far`` everywhere outside when nothing is inside,
+    ``-res`` everywhere when everything is."""
+    if inside.all() or not inside.any():
+        return np.where(inside, -res, far)
+    return (distance_transform_edt(~inside) - distance_transform_edt(inside)) * res
 
 
 def _walls(ctx: PlanningContext, pose: FloatArray) -> NDArray[np.bool_]:
