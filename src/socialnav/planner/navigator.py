@@ -63,6 +63,10 @@ Decisions:
   in view); the global layers see the people on the map.
 - Every command of every status is within the robot's velocity box and acceleration window
   (:func:`~socialnav.planner.limits.enforce_limits`; zero commands therefore decelerate).
+- ``contact_guard`` (default None: off): every command goes through
+  :func:`~socialnav.planner.contact_guard.guard_contact` after the limits, so no command of
+  any status (a decelerating zero command included) closes the footprint on a person it
+  touches when a reachable one does not.
 - ``step`` never raises: invalid input gives ``INVALID_INPUT`` naming the field, any internal
   failure too (with the exception text in ``message``). No input changes the navigator's state
   unless it is valid.
@@ -83,6 +87,7 @@ from socialnav.core.errors import is_non_negative_number
 from socialnav.core.geometry import FloatArray, wrap_angle
 from socialnav.core.robot import RobotModel
 from socialnav.core.scene import SocialContext
+from socialnav.planner.contact_guard import ContactGuardParams, guard_contact
 from socialnav.planner.context import PlanningContext
 from socialnav.planner.global_planner import (
     GlobalPlan,
@@ -172,6 +177,7 @@ class Navigator:
         replan_hysteresis: float = 0.0,
         detour_layer: CostmapLayer | None = None,
         detour_limit: float = 0.0,
+        contact_guard: ContactGuardParams | None = None,
     ) -> None:
         g = np.asarray(goal, dtype=float)
         if g.shape != (3,) or not np.all(np.isfinite(g)):
@@ -194,6 +200,7 @@ class Navigator:
                 raise ValueError(f"{name} must be a finite number >= 0, got {value!r}")
         if detour_limit > 0 and detour_layer is None:
             raise ValueError("detour_limit needs a detour_layer (the plan it is compared with)")
+        self.contact_guard = contact_guard
         self.meeting_layer = meeting_layer
         self.replan_hysteresis = float(replan_hysteresis)
         self.detour_layer = detour_layer
@@ -294,9 +301,10 @@ class Navigator:
                     velocity,
                 )
             self._step_index += 1
-            result = self._step(t, np.asarray(pose, float), np.asarray(velocity, float), social)
+            pose_a, vel_a = np.asarray(pose, float), np.asarray(velocity, float)
+            result = self._step(t, pose_a, vel_a, social)
             self._waiting = result.status == PlannerStatus.WAITING
-            return self._limited(result, velocity)
+            return self._guarded(self._limited(result, velocity), pose_a, vel_a, social)
         except Exception as exc:  # the control loop must survive anything
             return PlannerResult(
                 np.zeros(3), PlannerStatus.INVALID_INPUT, None, f"{type(exc).__name__}: {exc}"
@@ -335,6 +343,30 @@ class Navigator:
         if np.array_equal(cmd, result.cmd):
             return result
         return replace(result, cmd=cmd)
+
+    def _guarded(
+        self, result: PlannerResult, pose: FloatArray, velocity: FloatArray, social: SocialContext
+    ) -> PlannerResult:
+        """``result`` with its command through the contact guard (module docstring)."""
+        if self.contact_guard is None:
+            return result
+        local = social.within(pose[:2], self.people_range)
+        cmd, _ = guard_contact(
+            result.cmd,
+            pose,
+            velocity,
+            self.robot,
+            local,
+            self.controller_period,
+            self.contact_guard,
+            self.costmap,
+        )
+        if np.array_equal(cmd, result.cmd):
+            return result
+        why = "contact guard: no push into a person in contact"
+        return replace(
+            result, cmd=cmd, message=f"{result.message}; {why}" if result.message else why
+        )
 
     def _step(
         self, time: float, pose: FloatArray, velocity: FloatArray, social: SocialContext

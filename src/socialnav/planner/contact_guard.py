@@ -1,0 +1,257 @@
+"""Contact guard: the command a control cycle sends never pushes the footprint into a person.
+
+Francis et al. 2023 (and ``socialnav.metrics.crowd``) call a contact *active* when the robot's
+own motion — translation and turning, the person held where they are — closes its footprint
+on the person faster than a small speed. The local planner's approach rule
+(``InterpersonalCritic.approach_footprint``) keeps that out of the trajectories it selects, but
+not every command comes from a selection: a zero command of ``WAITING`` or ``STUCK`` and an
+evasive step are brought into the acceleration window by
+:func:`~socialnav.planner.limits.enforce_limits`, and a robot turning at 0.7 rad/s still turns
+at 0.36 rad/s one cycle later, sweeping a corner into the walker who has just reached it
+(recorded crowds: every active contact of ``paccet`` on development seeds 0–89 and reporting
+seeds 10,000–10,049 was such a step).
+
+:func:`guard_contact` checks the limited command against every person within reach as the
+start of a stop: the command for one control period ``T``, then the full brake (every axis
+toward zero at its ``acc_lim_*``) until the robot stands, one Euler step per period (as the
+simulator integrates and the crowd metric samples), people at constant velocity. At every
+step of that sequence:
+
+- a person *in contact after the step* (footprint–disc gap below ``contact_tolerance`` at
+  their forecast) may not be approached during it: the signed distance from the footprint to
+  their centre, held at that forecast, may not fall faster than ``approach_speed``;
+- a person *in contact before the step* may not be approached from there: the same test with
+  them held at the step's start.
+
+The brake is part of the test because a command is only as safe as the stop that can follow
+it: a Pioneer turning at 1 rad/s needs three more cycles to stop turning (3 rad/s²), and a
+guard that only looked one step ahead let it turn on until no reachable command avoided the
+person touching it (recorded crowd eth_hotel, Pioneer, dev seed 26). With the stop included
+the robot can always come to rest without pushing anyone it touches, when such a stop exists
+(*passive safety*: if contact happens, the robot is not the one moving into it; Macek et al.
+2009, Bouraine et al. 2012).
+
+When the command fails the test, the guard sends the reachable command nearest to it that
+passes: the alternatives are a grid of ``grid`` values per velocity axis over the acceleration
+window (:func:`~socialnav.planner.limits.enforce_limits`'s, inside the velocity box), the
+unchanged command and the plain brake, each judged as executed (a holonomic base's
+translational speed capped at ``max_speed``), nearness measured per axis in units of the
+window. When none passes, the one whose worst approach is slowest (within 0.1 mm/s, the
+nearest). Alternatives that would bring the footprint onto a LETHAL cell of the static map it
+is not on now are never chosen. Nothing changes when the command passes, so away from people
+the guard costs one distance test per cycle.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from socialnav.core.errors import ConfigurationError, is_non_negative_number
+from socialnav.core.geometry import FloatArray, signed_distance_to_polygon, world_to_body_frames
+from socialnav.core.robot import RobotModel
+from socialnav.core.scene import SocialContext
+from socialnav.planner.critics.occupancy import footprint_outline
+from socialnav.planner.limits import velocity_box
+from socialnav.world.grid import LETHAL, Costmap
+
+
+@dataclass(frozen=True)
+class ContactGuardParams:
+    """``approach_speed`` (m/s): the fastest the footprint may close on a person in contact
+    (below the crowd metric's 0.05 m/s, as the local planner's approach rule);
+    ``contact_tolerance`` (m): a footprint–disc gap below this counts as contact (the forecast
+    of where someone will be one period later is off by their acceleration); ``grid``: values
+    per velocity axis over the acceleration window (odd, so the window's centre is one)."""
+
+    approach_speed: float = 0.02
+    contact_tolerance: float = 0.05
+    grid: int = 7
+
+    def __post_init__(self) -> None:
+        for name in ("approach_speed", "contact_tolerance"):
+            if not is_non_negative_number(getattr(self, name)):
+                raise ConfigurationError(
+                    f"contact guard: {name} must be a finite number >= 0, got "
+                    f"{getattr(self, name)!r}"
+                )
+        if not (isinstance(self.grid, int) and self.grid >= 3 and self.grid % 2 == 1):
+            raise ConfigurationError(
+                f"contact guard: grid must be an odd int >= 3, got {self.grid!r}"
+            )
+
+
+def braking_twists(twists: FloatArray, robot: RobotModel, period: float) -> FloatArray:
+    """``(N, H, 3)``: each of ``twists (N, 3)`` (body, m/s and rad/s, as executed) for one
+    ``period`` s, then the full brake (every axis toward zero at its ``acc_lim_*``) until all
+    have stopped; ``H - 1`` braking steps, as many as the slowest-stopping twist needs."""
+    acc = np.array([robot.acc_lim_x, robot.acc_lim_y, robot.acc_lim_theta]) * period
+    need = np.where(acc > 0, np.abs(twists) / np.where(acc > 0, acc, 1.0), 0.0)
+    steps = int(np.ceil(need.max(initial=0.0) - 1e-9))
+    out = np.empty((twists.shape[0], steps + 1, 3))
+    out[:, 0] = twists
+    for j in range(1, steps + 1):
+        out[:, j] = np.clip(0.0, out[:, j - 1] - acc, out[:, j - 1] + acc)
+    return out
+
+
+def sequence_poses(pose: FloatArray, twists: FloatArray, period: float) -> FloatArray:
+    """``(N, H + 1, 3)`` poses (m, rad, world frame) from ``pose (3,)`` under the body-twist
+    sequences ``twists (N, H, 3)``, one Euler step of ``period`` s each (translation along the
+    heading at the step's start, as the simulator integrates and the crowd metric samples)."""
+    n, h = twists.shape[:2]
+    out = np.empty((n, h + 1, 3))
+    out[:, 0] = pose
+    for j in range(h):
+        c, s = np.cos(out[:, j, 2]), np.sin(out[:, j, 2])
+        vx, vy, w = twists[:, j, 0], twists[:, j, 1], twists[:, j, 2]
+        out[:, j + 1, 0] = out[:, j, 0] + (c * vx - s * vy) * period
+        out[:, j + 1, 1] = out[:, j, 1] + (s * vx + c * vy) * period
+        out[:, j + 1, 2] = out[:, j, 2] + w * period
+    return out
+
+
+def approach_speeds(
+    pose: FloatArray,
+    twists: FloatArray,
+    robot: RobotModel,
+    positions: FloatArray,
+    velocities: FloatArray,
+    radii: FloatArray,
+    period: float,
+    contact_tolerance: float,
+) -> FloatArray:
+    """``(N,)`` the fastest (m/s) the footprint closes on a person it touches when each of
+    ``twists (N, 3)`` (body twists as executed) is followed for one ``period`` s and then the
+    robot brakes to a stop (:func:`braking_twists`), by the two tests of the module docstring
+    at every step; people ``positions``/``velocities (K, 2)`` (m, m/s, world frame, forecast
+    at constant velocity), ``radii (K,)`` m. ``-inf`` when it touches nobody. Raises nothing on
+    finite input."""
+    poses = sequence_poses(pose, braking_twists(twists, robot, period), period)  # (N, H+1, 3)
+    h = poses.shape[1] - 1
+    t = np.arange(h + 1) * period
+    people = (positions[None] + t[:, None, None] * velocities[None])[None]  # (1, H+1, K, 2)
+    polygon = robot.polygon
+
+    def sd(at: FloatArray, points: FloatArray) -> FloatArray:
+        return signed_distance_to_polygon(world_to_body_frames(points, at), polygon)
+
+    same = sd(poses, people)  # (N, H+1, K): pose j, people at sample j
+    ahead = sd(poses[:, :-1], people[:, 1:])  # pose j, people at sample j + 1
+    behind = sd(poses[:, 1:], people[:, :-1])  # pose j + 1, people at sample j
+    touch = same < radii + contact_tolerance
+    # the step from sample j to j + 1: into someone touching at j + 1, out of the contact of
+    # sample j, each with the person held at that sample's forecast
+    into = np.where(touch[:, 1:], (ahead - same[:, 1:]) / period, -np.inf)
+    out = np.where(touch[:, :-1], (same[:, :-1] - behind) / period, -np.inf)
+    worst: FloatArray = (
+        np.maximum(into, out).reshape(twists.shape[0], -1).max(axis=1, initial=-np.inf)
+    )
+    return worst
+
+
+def _alternatives(
+    cmd: FloatArray, velocity: FloatArray, robot: RobotModel, period: float, grid: int
+) -> FloatArray:
+    """``(M, 3)``: the command, the brake, then a grid over the acceleration window."""
+    lo, hi = velocity_box(robot)
+    acc = np.array([robot.acc_lim_x, robot.acc_lim_y, robot.acc_lim_theta]) * period
+    w_lo, w_hi = np.maximum(lo, velocity - acc), np.minimum(hi, velocity + acc)
+    # an empty window (a measured speed beyond the box): enforce_limits's box edge
+    empty = w_lo > w_hi
+    w_lo[empty] = w_hi[empty] = np.clip(velocity[empty], lo[empty], hi[empty])
+    axes = [np.linspace(w_lo[i], w_hi[i], grid) for i in range(3)]
+    if not robot.holonomic:
+        axes[1] = np.zeros(1)
+    mesh = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, 3)
+    brake = np.clip(np.zeros(3), w_lo, w_hi)
+    return np.vstack([cmd[None], brake[None], mesh])
+
+
+def executed(twists: FloatArray, robot: RobotModel) -> FloatArray:
+    """``twists (N, 3)`` as a holonomic base executes them: the translational speed capped at
+    ``max_speed`` (``RobotModel.max_speed``; the velocity box bounds each axis only)."""
+    if not robot.holonomic:
+        return twists
+    speed = np.hypot(twists[:, 0], twists[:, 1])
+    out = twists.copy()
+    out[:, :2] *= np.minimum(1.0, robot.max_speed / np.maximum(speed, 1e-12))[:, None]
+    return out
+
+
+def footprint_on_lethal(
+    costmap: Costmap | None, poses: FloatArray, robot: RobotModel
+) -> NDArray[np.bool_]:
+    """``(N,)`` whether the footprint's outline (sampled at the map's resolution) at each pose
+    ``(N, 3)`` lies on a LETHAL cell of ``costmap`` (off-map points do not count)."""
+    if costmap is None:
+        return np.zeros(poses.shape[0], dtype=bool)
+    geo = costmap.geometry
+    outline = footprint_outline(robot.polygon, geo.resolution)  # (P, 2) body frame
+    c, s = np.cos(poses[:, 2])[:, None], np.sin(poses[:, 2])[:, None]
+    x = poses[:, 0:1] + c * outline[:, 0] - s * outline[:, 1]
+    y = poses[:, 1:2] + s * outline[:, 0] + c * outline[:, 1]
+    cells = geo.world_to_cell(np.stack([x, y], axis=-1))
+    inside = geo.in_bounds(cells)
+    hit = np.zeros(x.shape, dtype=bool)
+    hit[inside] = costmap.costs[cells[inside][:, 0], cells[inside][:, 1]] >= LETHAL
+    return np.asarray(hit.any(axis=1))
+
+
+def guard_contact(
+    cmd: FloatArray,
+    pose: FloatArray,
+    velocity: FloatArray,
+    robot: RobotModel,
+    social: SocialContext,
+    period: float,
+    params: ContactGuardParams | None = None,
+    costmap: Costmap | None = None,
+) -> tuple[FloatArray, float]:
+    """``(command (3,), its approach speed m/s)``: ``cmd`` (a body twist already within
+    :func:`~socialnav.planner.limits.enforce_limits`'s window around the measured body twist
+    ``velocity (3,)``) when it closes on nobody it touches, else the reachable alternative of
+    the module docstring. ``pose (3,)`` world (m, rad); ``social``: the people in view;
+    ``period`` (s): the control period; ``costmap``: the static map whose LETHAL cells an
+    alternative may not newly touch. The approach speed is ``-inf`` when nobody is touched.
+    Never raises on finite input."""
+    p = params or ContactGuardParams()
+    if not social.people:
+        return cmd, -np.inf
+    positions, velocities, radii = social.positions(), social.velocities(), social.radii()
+    # Only people the footprint can touch before it has stopped (either side at full speed).
+    speed = np.hypot(velocities[:, 0], velocities[:, 1])
+    acc = np.array([robot.acc_lim_x, robot.acc_lim_y, robot.acc_lim_theta])
+    stop = period + float(np.max(np.abs(velocity) / np.where(acc > 0, acc, np.inf))) + period
+    reach = (robot.max_speed + speed) * stop + p.contact_tolerance + radii
+    near = np.hypot(*(positions - pose[:2]).T) <= robot.circumscribed_radius + reach
+    if not near.any():
+        return cmd, -np.inf
+    positions, velocities, radii = positions[near], velocities[near], radii[near]
+
+    def worst_of(twists: FloatArray) -> FloatArray:
+        return approach_speeds(
+            pose, twists, robot, positions, velocities, radii, period, p.contact_tolerance
+        )
+
+    first = worst_of(executed(cmd[None], robot))
+    if first[0] <= p.approach_speed:
+        return cmd, float(first[0])
+    twists = _alternatives(cmd, velocity, robot, period, p.grid)
+    worst = worst_of(executed(twists, robot))
+    lethal = footprint_on_lethal(
+        costmap, sequence_poses(pose, executed(twists, robot)[:, None], period)[:, 1], robot
+    )
+    if costmap is not None:
+        lethal &= ~footprint_on_lethal(costmap, pose[None], robot)[0]
+    worst = np.where(lethal & (np.arange(worst.size) > 0), np.inf, worst)
+    scale = np.maximum(2.0 * acc * period, 1e-9)  # each axis in units of its window
+    dist = np.linalg.norm((twists - cmd) / scale, axis=1)
+    ok = worst <= p.approach_speed
+    if ok.any():
+        k = int(np.argmin(np.where(ok, dist, np.inf)))
+    else:
+        k = int(np.lexsort((dist, np.round(worst, 4)))[0])
+    return twists[k].copy(), float(worst[k])

@@ -1,0 +1,214 @@
+"""The contact guard: no command of any status closes the footprint on a person it touches.
+
+Recorded crowds (ETH/UCY) had ``paccet`` PR2 episodes with an *active* contact although the
+local planner's approach rule forbids closing on anyone in contact: the commands that did it
+were not selections but the decelerating zero command of ``WAITING`` (a turn at 0.68 rad/s is
+still 0.36 rad/s one cycle later) and evasive steps.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from _planner_helpers import world
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from shared import crowd_data
+from socialnav.core.geometry import signed_distance_to_polygon, world_to_body_frames
+from socialnav.core.robot import PIONEER, PR2, RobotModel
+from socialnav.core.scene import Person, SocialContext
+from socialnav.planner.contact_guard import (
+    ContactGuardParams,
+    approach_speeds,
+    executed,
+    footprint_on_lethal,
+    guard_contact,
+    sequence_poses,
+)
+from socialnav.planner.limits import enforce_limits, within_limits
+from socialnav.planner.presets import PRESETS, build_navigator
+from socialnav.world.grid import LETHAL, Costmap, GridGeometry
+
+DT = 0.1
+SPEED = ContactGuardParams().approach_speed
+
+
+def _approach(cmd, pose, robot, social) -> float:
+    return float(
+        approach_speeds(
+            pose,
+            executed(np.asarray(cmd, float)[None], robot),
+            robot,
+            social.positions(),
+            social.velocities(),
+            social.radii(),
+            DT,
+            ContactGuardParams().contact_tolerance,
+        )[0]
+    )
+
+
+def _next(pose, cmd) -> np.ndarray:
+    """``(1, 3)``: the pose one period after ``pose`` under ``cmd``."""
+    return sequence_poses(pose, np.asarray(cmd, float)[None, None], DT)[:, 1]
+
+
+# A PR2 turning left at 0.68 rad/s; someone stands 1 cm outside its right edge, near the back:
+# the turn sweeps that part of the edge toward them (its points move at w·|x| along -y).
+TURNING = np.array([0.0, 0.0, 0.68])
+BESIDE = SocialContext((Person(1, (-0.25, -0.325 - 0.3 - 0.01), (0.0, 0.0), radius=0.3),))
+
+
+def test_the_brake_of_a_turn_sweeps_a_corner_into_someone_and_the_guard_steps_away():
+    pose = np.zeros(3)
+    brake = enforce_limits(np.zeros(3), TURNING, PR2, DT)
+    assert brake[2] == pytest.approx(0.36)
+    assert _approach(brake, pose, PR2, BESIDE) > 0.05  # the crowd metric's active speed
+    cmd, worst = guard_contact(brake, pose, TURNING, PR2, BESIDE, DT)
+    assert worst <= SPEED
+    assert _approach(cmd, pose, PR2, BESIDE) == pytest.approx(worst)
+    assert within_limits(cmd, TURNING, PR2, DT)
+    assert cmd[1] > 0.0  # a step to the left, away from them, while the turn slows
+
+
+def test_the_paccet_navigator_never_closes_on_someone_touching_it():
+    # The navigator's command in that state, whatever its status.
+    costmap, _ = world(8.0, 8.0, [], PR2)
+    pose = np.array([4.0, 4.0, 0.0])
+    person = BESIDE.people[0]
+    social = SocialContext(
+        (
+            Person(
+                1,
+                (pose[0] + person.position[0], pose[1] + person.position[1]),
+                (0.0, 0.0),
+                radius=0.3,
+            ),
+        )
+    )
+    nav = build_navigator("paccet", PR2, costmap, np.array([7.0, 7.0, 0.0]), social)
+    res = nav.step(0.0, pose, TURNING, social)
+    assert within_limits(res.cmd, TURNING, PR2, DT)
+    assert _approach(res.cmd, pose, PR2, social) <= SPEED
+
+
+def test_a_command_that_closes_on_nobody_passes_unchanged():
+    cmd = np.array([0.3, 0.1, 0.2])
+    far = SocialContext((Person(1, (3.0, 0.0), (0.0, 0.0)),))
+    assert guard_contact(cmd, np.zeros(3), cmd, PR2, far, DT)[0] is cmd
+    # in contact, but moving away from them
+    behind = SocialContext((Person(1, (-0.325 - 0.31, 0.0), (0.0, 0.0), radius=0.3),))
+    out, worst = guard_contact(cmd, np.zeros(3), cmd, PR2, behind, DT)
+    assert out is cmd and worst <= SPEED
+
+
+def test_a_differential_drive_robot_that_cannot_stop_in_time_brakes_hardest():
+    # A Pioneer at 0.5 m/s with someone touching its front: every reachable command closes on
+    # them (deceleration 1.5 m/s² leaves at least 0.35 m/s); the guard picks the slowest.
+    v = np.array([0.5, 0.0, 0.0])
+    ahead = SocialContext((Person(1, (0.225 + 0.3 + 0.01, 0.0), (0.0, 0.0), radius=0.3),))
+    cmd, worst = guard_contact(v, np.zeros(3), v, PIONEER, ahead, DT)
+    assert worst > SPEED
+    assert cmd[0] == pytest.approx(0.35)
+    brake = enforce_limits(np.zeros(3), v, PIONEER, DT)
+    assert worst <= _approach(brake, np.zeros(3), PIONEER, ahead) + 1e-12
+
+
+def test_the_guard_never_steps_onto_a_wall_it_is_not_on():
+    # The same turn with a wall 1.5 cm left of the robot: the brake's turn lifts the front-left
+    # corner 1.2 cm, the guard's step away from the person 2 cm, onto the wall; with the map,
+    # the guard keeps off it and closes on the person as little as that allows.
+    costs = np.zeros((160, 160), np.uint8)
+    costs[87:, :] = LETHAL  # y >= 4.35 m
+    costmap = Costmap(costs, GridGeometry((160, 160), 0.05))
+    pose = np.array([4.0, 4.35 - 0.015 - 0.325, 0.0])
+    person = BESIDE.people[0]
+    at = (pose[0] + person.position[0], pose[1] + person.position[1])
+    social = SocialContext((Person(1, at, (0.0, 0.0), radius=0.3),))
+    brake = enforce_limits(np.zeros(3), TURNING, PR2, DT)
+    free, _ = guard_contact(brake, pose, TURNING, PR2, social, DT)
+    walled, _ = guard_contact(brake, pose, TURNING, PR2, social, DT, costmap=costmap)
+    assert not footprint_on_lethal(costmap, pose[None], PR2)[0]
+    assert footprint_on_lethal(costmap, _next(pose, free), PR2)[0]
+    assert not footprint_on_lethal(costmap, _next(pose, brake), PR2)[0]
+    assert not footprint_on_lethal(costmap, _next(pose, walled), PR2)[0]
+    assert within_limits(walled, TURNING, PR2, DT)
+    assert not np.array_equal(walled, brake)  # it still moves off the person where it can
+    assert _approach(walled, pose, PR2, social) < _approach(brake, pose, PR2, social)
+
+
+ROBOTS = st.sampled_from([PR2, PIONEER])
+
+
+@settings(max_examples=150, deadline=None)
+@given(
+    robot=ROBOTS,
+    v=st.tuples(*(st.floats(-1.0, 1.0) for _ in range(3))),
+    c=st.tuples(*(st.floats(-1.0, 1.0) for _ in range(3))),
+    person=st.tuples(st.floats(-1.0, 1.0), st.floats(-1.0, 1.0)),
+    walk=st.tuples(st.floats(-2.0, 2.0), st.floats(-2.0, 2.0)),
+)
+def test_the_guarded_command_is_reachable_and_never_closes_faster_than_needed(
+    robot: RobotModel, v, c, person, walk
+):
+    lo = np.array([robot.min_vel_x, -robot.max_vel_y, -robot.max_vel_theta])
+    hi = np.array([robot.max_vel_x, robot.max_vel_y, robot.max_vel_theta])
+    velocity = lo + (np.asarray(v) + 1.0) / 2.0 * (hi - lo)
+    cmd = enforce_limits(lo + (np.asarray(c) + 1.0) / 2.0 * (hi - lo), velocity, robot, DT)
+    social = SocialContext((Person(1, person, walk, radius=0.3),))
+    pose = np.zeros(3)
+    out, worst = guard_contact(cmd, pose, velocity, robot, social, DT)
+    assert within_limits(out, velocity, robot, DT, tol=1e-9)
+    assert worst == pytest.approx(_approach(out, pose, robot, social))
+    before = _approach(cmd, pose, robot, social)
+    if before <= SPEED:
+        assert out is cmd
+    else:
+        # never worse than the command, nor than the brake (up to the 0.1 mm/s near-tie rule)
+        assert worst <= before + 1e-4
+        brake = enforce_limits(np.zeros(3), velocity, robot, DT)
+        assert worst <= max(SPEED, _approach(brake, pose, robot, social) + 1e-4)
+
+
+@pytest.mark.parametrize("value", [-0.1, float("nan")])
+def test_bad_guard_parameters_name_the_field(value):
+    with pytest.raises(Exception, match="approach_speed"):
+        ContactGuardParams(approach_speed=value)
+    with pytest.raises(Exception, match="grid"):
+        ContactGuardParams(grid=4)
+
+
+def test_paccet_guards_and_the_baselines_do_not():
+    assert PRESETS.get("paccet").contact_guard is not None
+    assert PRESETS.get("traditional").contact_guard is None
+
+
+def test_bug_pr2_turned_into_a_walker_while_braking_recorded_crowd_eth_hotel_dev_seed_67():
+    from socialnav.experiments.crowd import CrowdSpec, run_crowd_planner
+    from socialnav.metrics import crowd as cm
+
+    spec = CrowdSpec(str(crowd_data("eth_hotel_obsmat.txt")), "paccet", "pr2", 67)
+    record = run_crowd_planner(spec).record
+    assert cm.collisions_active(record) == 0
+
+
+def test_bug_a_turn_the_robot_could_not_stop_before_it_swept_into_someone():
+    # A Pioneer turning right at 1 rad/s, someone 8 cm off its right edge near the front. One
+    # more cycle of the turn touches nobody (the edge comes 2 cm closer), but stopping the turn
+    # takes three more cycles at 3 rad/s², and by then the edge sweeps into them; braking now
+    # does not. The first guard looked one step ahead and let the turn go on (recorded crowd
+    # eth_hotel, Pioneer, dev seed 26: an active contact two cycles later).
+    v = np.array([0.0, 0.0, -1.0])
+    person = Person(1, (0.15, -0.19 - 0.3 - 0.08), (0.0, 0.0), radius=0.3)
+    social = SocialContext((person,))
+    one_step = _next(np.zeros(3), v)
+    gap = signed_distance_to_polygon(
+        world_to_body_frames(np.array(person.position)[None], one_step)[0], PIONEER.polygon
+    )
+    assert float(gap) - 0.3 > ContactGuardParams().contact_tolerance  # no contact after one step
+    assert _approach(v, np.zeros(3), PIONEER, social) > 0.05  # but during the stop
+    cmd, worst = guard_contact(v, np.zeros(3), v, PIONEER, social, DT)
+    assert worst <= SPEED
+    assert -1.0 < cmd[2] < 0.0  # it slows the turn now
+    assert within_limits(cmd, v, PIONEER, DT)
