@@ -2,13 +2,15 @@
 
 Run: ``.venv/bin/python benchmarks/bench_contact_guard.py [--quick]``.
 
-Setup: each robot at full speed turning at full rate, 20 people in a 10 m × 10 m area around
-it (seeded). Rows per robot: the acceleration limits alone (``enforce_limits``, what every
-command went through before; the baseline), the guard with nobody within reach (the common
-case), with someone touching the robot's back (the command and its stop are checked and
-kept), and with someone touching its front (no reachable command avoids closing on them: the
-whole search over the acceleration window, 7 values per axis, 343 commands for the PR2, 49
-for the Pioneer). ``stays`` says whether the guard kept the command.
+Setup: each robot at full speed turning at full rate in a 3 m corridor of a 12 m × 12 m static
+map (the guard's wall check runs on every candidate's stop, as in the navigator), 20 people
+in a 10 m × 10 m area around it (seeded). Rows per robot: the acceleration limits alone
+(``enforce_limits``, what every command went through before; the baseline), the guard with
+nobody within reach (the common case), with someone touching the robot's back (the command
+and its stop are checked and kept), and with someone touching its front (no reachable command
+avoids closing on them: the whole search over the acceleration window, 7 values per axis, 343
+commands for the PR2, 49 for the Pioneer). ``stays`` says whether the guard kept the command.
+The guard runs after the limits: a cycle costs the two rows' sum.
 """
 
 from __future__ import annotations
@@ -24,8 +26,19 @@ from socialnav.core.robot import PIONEER, PR2, RobotModel
 from socialnav.core.scene import Person, SocialContext
 from socialnav.planner.contact_guard import guard_contact
 from socialnav.planner.limits import enforce_limits
+from socialnav.world.grid import LETHAL, Costmap, GridGeometry
 
 DT = 0.1
+#: the static map the navigator hands the guard: 12 m × 12 m at 0.05 m, the robot at its
+#: centre, walls 1.5 m to either side (a corridor along x)
+GEOMETRY = GridGeometry((240, 240), 0.05, (-6.0, -6.0))
+
+
+def corridor() -> Costmap:
+    costs = np.zeros(GEOMETRY.shape, np.uint8)
+    costs[:90, :] = LETHAL  # y < -1.5 m
+    costs[150:, :] = LETHAL  # y >= 1.5 m
+    return Costmap(costs, GEOMETRY)
 
 
 def crowd(robot: RobotModel, near: tuple[float, float] | None) -> SocialContext:
@@ -46,6 +59,7 @@ def main() -> None:
     quick = quick_option(__doc__)
     repeats = 50 if quick else 300
     cases = []
+    cm = corridor()
     for robot in (PIONEER, PR2):
         v = np.array([robot.max_vel_x, 0.0, -robot.max_vel_theta])
         cmd = enforce_limits(v, v, robot, DT)
@@ -65,13 +79,13 @@ def main() -> None:
             )
         )
         for name, social in scenes.items():
-            out, _ = guard_contact(cmd, np.zeros(3), v, robot, social, DT)
+            out, _ = guard_contact(cmd, np.zeros(3), v, robot, social, DT, costmap=cm)
             cases.append(
                 Case(
                     group,
                     name,
                     lambda r=robot, c=cmd, v=v, s=social: guard_contact(
-                        c, np.zeros(3), v, r, s, DT
+                        c, np.zeros(3), v, r, s, DT, costmap=cm
                     ),
                     repeats,
                     baseline="enforce_limits alone",

@@ -87,7 +87,7 @@ def print_rows(rows: Sequence[Row], title: str = "") -> None:
             format_seconds(r.median_s),
             format_seconds(r.min_s),
             str(r.repeats),
-            "" if r.ratio is None else f"{r.ratio:.1f}x",
+            "" if r.ratio is None else f"{r.ratio:.1f}x" if r.ratio >= 0.1 else f"{r.ratio:.2g}x",
         ]
         for r in rows
     ]

@@ -19,9 +19,13 @@ from socialnav.core.geometry import signed_distance_to_polygon, world_to_body_fr
 from socialnav.core.robot import PIONEER, PR2, RobotModel
 from socialnav.core.scene import Person, SocialContext
 from socialnav.planner.contact_guard import (
+    MAX_GRID,
     ContactGuardParams,
     approach_speeds,
+    braking_twists,
+    cells_under,
     executed,
+    footprint_cells,
     footprint_on_lethal,
     guard_contact,
     sequence_poses,
@@ -212,3 +216,123 @@ def test_bug_a_turn_the_robot_could_not_stop_before_it_swept_into_someone():
     assert worst <= SPEED
     assert -1.0 < cmd[2] < 0.0  # it slows the turn now
     assert within_limits(cmd, v, PIONEER, DT)
+
+
+def _corridor() -> Costmap:
+    """Walls below y = 1 m and from y = 3 m up, 8 m long, 0.05 m cells."""
+    costs = np.zeros((80, 160), np.uint8)
+    costs[:20, :] = LETHAL
+    costs[60:, :] = LETHAL
+    return Costmap(costs, GridGeometry((80, 160), 0.05))
+
+
+def _stop_on_wall(costmap: Costmap, pose, cmd, robot: RobotModel) -> bool:
+    twists = braking_twists(executed(np.asarray(cmd, float)[None], robot), robot, DT)
+    return bool(footprint_on_lethal(costmap, sequence_poses(pose, twists, DT)[0, 1:], robot).any())
+
+
+def test_bug_the_stop_after_the_guards_command_ran_into_a_wall():
+    # A PR2 turning toward the upper wall with a walker touching it: the first guard checked
+    # the wall one period ahead only and chose a faster command whose stop reached the wall,
+    # although the brake and many other commands stop clear of both.
+    cm = _corridor()
+    pose, v = np.array([4.0, 2.574, 1.772]), np.array([0.281, 0.268, 0.507])
+    cmd = np.array([0.069, 0.018, 0.827])
+    social = SocialContext((Person(1, (4.06, 1.869), (-0.919, -0.117), radius=0.3),))
+    assert _approach(cmd, pose, PR2, social) > SPEED
+    out, worst = guard_contact(cmd, pose, v, PR2, social, DT, costmap=cm)
+    assert worst <= SPEED
+    assert not _stop_on_wall(cm, pose, out, PR2)
+    assert within_limits(out, v, PR2, DT)
+
+
+def test_bug_a_wall_cell_touched_behind_let_the_guard_onto_another_wall():
+    # The wall test of above, with one more LETHAL cell the back edge already touches: the
+    # first guard switched the wall rule off for every cell once the footprint touched any.
+    costs = np.zeros((160, 160), np.uint8)
+    costs[87:, :] = LETHAL
+    pose = np.array([4.0, 4.35 - 0.015 - 0.325, 0.0])
+    row, col = GridGeometry((160, 160), 0.05).world_to_cell([pose[0] - 0.325, pose[1]])
+    costs[row, col] = LETHAL
+    cm = Costmap(costs, GridGeometry((160, 160), 0.05))
+    person = BESIDE.people[0]
+    at = (pose[0] + person.position[0], pose[1] + person.position[1])
+    social = SocialContext((Person(1, at, (0.0, 0.0), radius=0.3),))
+    assert footprint_on_lethal(cm, pose[None], PR2)[0]
+    brake = enforce_limits(np.zeros(3), TURNING, PR2, DT)
+    out, _ = guard_contact(brake, pose, TURNING, PR2, social, DT, costmap=cm)
+    flat, inside = footprint_cells(cm, pose[None], PR2)
+    now = flat[inside & (cm.costs.reshape(-1)[flat] >= LETHAL)]
+    twists = braking_twists(executed(out[None], PR2), PR2, DT)
+    stop = sequence_poses(pose, twists, DT)[0, 1:]
+    assert not footprint_on_lethal(cm, stop, PR2, now).any()
+
+
+@pytest.mark.parametrize(
+    ("cmd", "velocity", "period"),
+    [
+        (np.array([0, 0, 0]), np.array([0.0, 0.0, 0.68]), DT),  # integers
+        ([0.0, 0.0, 0.0], [0.0, 0.0, 0.68], DT),  # lists
+        (np.array([np.nan, 0.0, 0.0]), TURNING, DT),
+        (np.zeros(3), np.array([np.inf, 0.0, 0.0]), DT),
+        (np.zeros(3), TURNING, 0.0),
+        (np.zeros(3), TURNING, -0.1),
+        (np.zeros(3), TURNING, float("nan")),
+    ],
+)
+def test_odd_but_finite_typed_input_never_raises(cmd, velocity, period):
+    out, worst = guard_contact(cmd, np.zeros(3), velocity, PR2, BESIDE, period)
+    assert np.asarray(out).shape == (3,)
+    readable = np.all(np.isfinite(np.asarray(cmd, float))) and np.all(
+        np.isfinite(np.asarray(velocity, float))
+    )
+    if not readable or not (period > 0):
+        assert out is cmd and worst == -np.inf  # nothing it can judge: left as it is
+
+
+def test_the_stopping_command_of_invalid_input_is_guarded_too():
+    # A pose just off the map is INVALID_INPUT with a stopping command; that command, too,
+    # may not sweep the PR2's corner into the person beside it.
+    costmap, _ = world(8.0, 8.0, [], PR2)
+    pose = np.array([8.01, 4.0, 0.0])
+    person = BESIDE.people[0]
+    at = (pose[0] + person.position[0], pose[1] + person.position[1])
+    social = SocialContext((Person(1, at, (0.0, 0.0), radius=0.3),))
+    nav = build_navigator("paccet", PR2, costmap, np.array([7.0, 7.0, 0.0]), social)
+    res = nav.step(0.0, pose, TURNING, social)
+    assert res.status.name == "INVALID_INPUT"
+    assert _approach(res.cmd, pose, PR2, social) <= SPEED
+    assert within_limits(res.cmd, TURNING, PR2, DT)
+
+
+def test_the_grid_takes_numpy_integers_and_is_bounded():
+    assert ContactGuardParams(grid=np.int64(9)).grid == 9
+    with pytest.raises(Exception, match="grid"):
+        ContactGuardParams(grid=MAX_GRID + 2)
+
+
+def test_bug_a_wall_cell_already_under_the_footprint_made_the_guard_push_a_person():
+    # A LETHAL cell under the PR2 but off its outline (a post it stands over) read as a wall
+    # the stop would newly touch, so the guard chose a command closing on the walker at
+    # 0.068 m/s instead of one at 0.018 m/s (second newcomer trial, random search).
+    costs = np.zeros((160, 160), np.uint8)
+    pose = np.array([4.0, 4.0, 1.3241])
+    v, cmd = np.array([0.3739, -0.2053, 0.5169]), np.array([0.1239, 0.0410, 0.5829])
+    social = SocialContext((Person(1, (4.4275, 3.5841), (0.916, 0.538), radius=0.3),))
+    free, worst_free = guard_contact(
+        cmd, pose, v, PR2, social, DT, costmap=Costmap(costs, GridGeometry((160, 160), 0.05))
+    )
+    costs[81, 86] = LETHAL
+    post = Costmap(costs, GridGeometry((160, 160), 0.05))
+    assert 81 * 160 + 86 in cells_under(post, pose, PR2)
+    assert not footprint_on_lethal(post, pose[None], PR2)[0]  # not on the outline
+    out, worst = guard_contact(cmd, pose, v, PR2, social, DT, costmap=post)
+    assert worst_free <= SPEED and worst <= SPEED
+    np.testing.assert_array_equal(out, free)
+
+
+@pytest.mark.filterwarnings("ignore:overflow:RuntimeWarning")  # 1e300 squared, in a norm
+def test_a_command_far_beyond_the_limits_or_a_tiny_period_does_not_raise():
+    for cmd, period in ((np.array([0.0, 0.0, 1e300]), DT), (np.zeros(3), 1e-9)):
+        out, _ = guard_contact(cmd, np.zeros(3), TURNING, PR2, BESIDE, period)
+        assert np.asarray(out).shape == (3,)

@@ -36,26 +36,44 @@ passes: the alternatives are a grid of ``grid`` values per velocity axis over th
 window (:func:`~socialnav.planner.limits.enforce_limits`'s, inside the velocity box), the
 unchanged command and the plain brake, each judged as executed (a holonomic base's
 translational speed capped at ``max_speed``), nearness measured per axis in units of the
-window. When none passes, the one whose worst approach is slowest (within 0.1 mm/s, the
-nearest). Alternatives that would bring the footprint onto a LETHAL cell of the static map it
-is not on now are never chosen. Nothing changes when the command passes, so away from people
-the guard costs one distance test per cycle.
+window. When none passes, the one whose worst approach is slowest (among those within
+0.1 mm/s of it, the nearest). With the static ``costmap``, a command whose stop puts the
+footprint's outline on a LETHAL cell it is not on now is never chosen (the incoming command
+included, once it has failed; cells it covers now do not count), unless every command's stop
+does; then the people decide. A command that passes the people test is not checked against
+walls (the local planner's occupancy critic chose it).
+The chosen command keeps the result's status; the message says the guard acted. Nothing
+changes when the command passes, so away from people the guard costs one distance test per
+cycle (about 40–60 µs after the limits' 20 µs; ``benchmarks/bench_contact_guard.py``).
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
+from numbers import Integral
 
 import numpy as np
 from numpy.typing import NDArray
 
 from socialnav.core.errors import ConfigurationError, is_non_negative_number
-from socialnav.core.geometry import FloatArray, signed_distance_to_polygon, world_to_body_frames
+from socialnav.core.geometry import (
+    FloatArray,
+    points_in_polygon,
+    signed_distance_to_polygon,
+    world_to_body_frames,
+)
 from socialnav.core.robot import RobotModel
 from socialnav.core.scene import SocialContext
 from socialnav.planner.critics.occupancy import footprint_outline
 from socialnav.planner.limits import velocity_box
 from socialnav.world.grid import LETHAL, Costmap
+
+#: the most braking steps a stop is followed for (5 s at 0.1 s; a robot within its limits
+#: stops in under 1 s)
+MAX_BRAKING_STEPS = 50
+#: the largest ``ContactGuardParams.grid`` (15³ = 3375 commands for a holonomic base: ~60 ms)
+MAX_GRID = 15
 
 
 @dataclass(frozen=True)
@@ -64,7 +82,9 @@ class ContactGuardParams:
     (below the crowd metric's 0.05 m/s, as the local planner's approach rule);
     ``contact_tolerance`` (m): a footprint–disc gap below this counts as contact (the forecast
     of where someone will be one period later is off by their acceleration); ``grid``: values
-    per velocity axis over the acceleration window (odd, so the window's centre is one)."""
+    per velocity axis over the acceleration window (odd, so the window's centre is one; at
+    most ``MAX_GRID``: a holonomic base checks ``grid³`` commands, 343 at 7, about 9 ms with
+    the wall check)."""
 
     approach_speed: float = 0.02
     contact_tolerance: float = 0.05
@@ -77,19 +97,22 @@ class ContactGuardParams:
                     f"contact guard: {name} must be a finite number >= 0, got "
                     f"{getattr(self, name)!r}"
                 )
-        if not (isinstance(self.grid, int) and self.grid >= 3 and self.grid % 2 == 1):
+        grid = self.grid
+        if not (isinstance(grid, Integral) and 3 <= grid <= MAX_GRID and grid % 2 == 1):
             raise ConfigurationError(
-                f"contact guard: grid must be an odd int >= 3, got {self.grid!r}"
+                f"contact guard: grid must be an odd int in [3, {MAX_GRID}], got {grid!r}"
             )
 
 
 def braking_twists(twists: FloatArray, robot: RobotModel, period: float) -> FloatArray:
     """``(N, H, 3)``: each of ``twists (N, 3)`` (body, m/s and rad/s, as executed) for one
     ``period`` s, then the full brake (every axis toward zero at its ``acc_lim_*``) until all
-    have stopped; ``H - 1`` braking steps, as many as the slowest-stopping twist needs."""
+    have stopped; ``H - 1`` braking steps, as many as the slowest-stopping twist needs (at most
+    ``MAX_BRAKING_STEPS``: a twist far beyond the limits, or a tiny period, is not followed to
+    a stop)."""
     acc = np.array([robot.acc_lim_x, robot.acc_lim_y, robot.acc_lim_theta]) * period
     need = np.where(acc > 0, np.abs(twists) / np.where(acc > 0, acc, 1.0), 0.0)
-    steps = int(np.ceil(need.max(initial=0.0) - 1e-9))
+    steps = min(int(np.ceil(need.max(initial=0.0) - 1e-9)), MAX_BRAKING_STEPS)
     out = np.empty((twists.shape[0], steps + 1, 3))
     out[:, 0] = twists
     for j in range(1, steps + 1):
@@ -181,13 +204,11 @@ def executed(twists: FloatArray, robot: RobotModel) -> FloatArray:
     return out
 
 
-def footprint_on_lethal(
-    costmap: Costmap | None, poses: FloatArray, robot: RobotModel
-) -> NDArray[np.bool_]:
-    """``(N,)`` whether the footprint's outline (sampled at the map's resolution) at each pose
-    ``(N, 3)`` lies on a LETHAL cell of ``costmap`` (off-map points do not count)."""
-    if costmap is None:
-        return np.zeros(poses.shape[0], dtype=bool)
+def footprint_cells(
+    costmap: Costmap, poses: FloatArray, robot: RobotModel
+) -> tuple[NDArray[np.intp], NDArray[np.bool_]]:
+    """``(flat cell indices (N, P), on the map (N, P))`` of the footprint's outline, sampled at
+    the map's resolution, at each of ``poses (N, 3)`` (m, rad, world frame)."""
     geo = costmap.geometry
     outline = footprint_outline(robot.polygon, geo.resolution)  # (P, 2) body frame
     c, s = np.cos(poses[:, 2])[:, None], np.sin(poses[:, 2])[:, None]
@@ -195,8 +216,46 @@ def footprint_on_lethal(
     y = poses[:, 1:2] + s * outline[:, 0] + c * outline[:, 1]
     cells = geo.world_to_cell(np.stack([x, y], axis=-1))
     inside = geo.in_bounds(cells)
-    hit = np.zeros(x.shape, dtype=bool)
-    hit[inside] = costmap.costs[cells[inside][:, 0], cells[inside][:, 1]] >= LETHAL
+    flat = np.where(inside, cells[..., 0] * geo.shape[1] + cells[..., 1], 0)
+    return flat, inside
+
+
+def cells_under(costmap: Costmap, pose: FloatArray, robot: RobotModel) -> NDArray[np.intp]:
+    """Flat indices of the LETHAL cells the footprint at ``pose (3,)`` is on now: those its
+    outline (sampled at the map's resolution) lies on and those whose centre it covers."""
+    geo = costmap.geometry
+    flat, inside = footprint_cells(costmap, pose[None], robot)
+    lethal = costmap.costs.reshape(-1) >= LETHAL
+    edge = flat[inside & lethal[flat]]
+    r = robot.circumscribed_radius
+    lo = geo.world_to_cell(pose[:2] - r)
+    hi = geo.world_to_cell(pose[:2] + r)
+    rows = np.arange(max(lo[0], 0), min(hi[0] + 1, geo.shape[0]))
+    cols = np.arange(max(lo[1], 0), min(hi[1] + 1, geo.shape[1]))
+    rr, cc = np.meshgrid(rows, cols, indexing="ij")
+    box = (rr * geo.shape[1] + cc).reshape(-1)
+    box = box[lethal[box]]
+    if box.size:
+        centres = geo.cell_to_world(np.column_stack([box // geo.shape[1], box % geo.shape[1]]))
+        body = world_to_body_frames(centres, pose)
+        box = box[points_in_polygon(body, robot.polygon)]
+    return np.unique(np.concatenate([edge, box]))
+
+
+def footprint_on_lethal(
+    costmap: Costmap | None,
+    poses: FloatArray,
+    robot: RobotModel,
+    allowed: NDArray[np.intp] | None = None,
+) -> NDArray[np.bool_]:
+    """``(N,)`` whether the footprint's outline at each pose ``(N, 3)`` lies on a LETHAL cell of
+    ``costmap`` other than the flat cell indices ``allowed`` (off-map points do not count)."""
+    if costmap is None:
+        return np.zeros(poses.shape[0], dtype=bool)
+    flat, inside = footprint_cells(costmap, poses, robot)
+    hit = inside & (costmap.costs.reshape(-1)[flat] >= LETHAL)
+    if allowed is not None and allowed.size:
+        hit &= ~np.isin(flat, allowed)
     return np.asarray(hit.any(axis=1))
 
 
@@ -212,46 +271,59 @@ def guard_contact(
 ) -> tuple[FloatArray, float]:
     """``(command (3,), its approach speed m/s)``: ``cmd`` (a body twist already within
     :func:`~socialnav.planner.limits.enforce_limits`'s window around the measured body twist
-    ``velocity (3,)``) when it closes on nobody it touches, else the reachable alternative of
-    the module docstring. ``pose (3,)`` world (m, rad); ``social``: the people in view;
-    ``period`` (s): the control period; ``costmap``: the static map whose LETHAL cells an
-    alternative may not newly touch. The approach speed is ``-inf`` when nobody is touched.
-    Never raises on finite input."""
+    ``velocity (3,)``, m/s and rad/s) when it and its stop close on nobody it touches, else the
+    reachable alternative of the module docstring. ``pose (3,)`` world ``(x, y, yaw)`` (m,
+    rad); ``social``: the people in view (world frame); ``period`` (s): the control period;
+    ``costmap``: the static map whose LETHAL cells no chosen stop may newly touch. The approach
+    speed is ``-inf`` when nobody is touched. Never raises on ``(3,)`` numeric input: a
+    non-finite ``cmd``, ``velocity`` or ``pose``, or a ``period`` that is not positive,
+    returns ``cmd`` as it is with ``-inf`` (there is nothing it can judge); a stop is followed
+    for at most ``MAX_BRAKING_STEPS`` periods."""
     p = params or ContactGuardParams()
-    if not social.people:
-        return cmd, -np.inf
+    c = np.asarray(cmd, dtype=float).reshape(3)
+    v = np.asarray(velocity, dtype=float).reshape(3)
+    q = np.asarray(pose, dtype=float).reshape(3)
+    finite = math.isfinite(float(c.sum() + v.sum() + q.sum()))  # one test for nine values
+    if not social.people or not finite or not (np.isfinite(period) and period > 0):
+        return cmd, -np.inf  # nothing to check against, or nothing to check with
     positions, velocities, radii = social.positions(), social.velocities(), social.radii()
     # Only people the footprint can touch before it has stopped (either side at full speed).
     speed = np.hypot(velocities[:, 0], velocities[:, 1])
     acc = np.array([robot.acc_lim_x, robot.acc_lim_y, robot.acc_lim_theta])
-    stop = period + float(np.max(np.abs(velocity) / np.where(acc > 0, acc, np.inf))) + period
+    stop = period + float(np.max(np.abs(v) / np.where(acc > 0, acc, np.inf))) + period
     reach = (robot.max_speed + speed) * stop + p.contact_tolerance + radii
-    near = np.hypot(*(positions - pose[:2]).T) <= robot.circumscribed_radius + reach
+    near = np.hypot(*(positions - q[:2]).T) <= robot.circumscribed_radius + reach
+    near &= np.all(np.isfinite(positions), axis=1) & np.all(np.isfinite(velocities), axis=1)
     if not near.any():
         return cmd, -np.inf
     positions, velocities, radii = positions[near], velocities[near], radii[near]
 
     def worst_of(twists: FloatArray) -> FloatArray:
         return approach_speeds(
-            pose, twists, robot, positions, velocities, radii, period, p.contact_tolerance
+            q, twists, robot, positions, velocities, radii, period, p.contact_tolerance
         )
 
-    first = worst_of(executed(cmd[None], robot))
+    first = worst_of(executed(c[None], robot))
     if first[0] <= p.approach_speed:
         return cmd, float(first[0])
-    twists = _alternatives(cmd, velocity, robot, period, p.grid)
-    worst = worst_of(executed(twists, robot))
-    lethal = footprint_on_lethal(
-        costmap, sequence_poses(pose, executed(twists, robot)[:, None], period)[:, 1], robot
-    )
+    twists = _alternatives(c, v, robot, period, p.grid)
+    done = executed(twists, robot)
+    worst = worst_of(done)
+    # Walls: no pose of the stop on a LETHAL cell the footprint is not on now.
+    wall: NDArray[np.bool_] = np.zeros(twists.shape[0], dtype=bool)
     if costmap is not None:
-        lethal &= ~footprint_on_lethal(costmap, pose[None], robot)[0]
-    worst = np.where(lethal & (np.arange(worst.size) > 0), np.inf, worst)
-    scale = np.maximum(2.0 * acc * period, 1e-9)  # each axis in units of its window
-    dist = np.linalg.norm((twists - cmd) / scale, axis=1)
-    ok = worst <= p.approach_speed
+        now = cells_under(costmap, q, robot)
+        stops = sequence_poses(q, braking_twists(done, robot, period), period)[:, 1:]
+        n, h = stops.shape[:2]
+        hits = footprint_on_lethal(costmap, stops.reshape(-1, 3), robot, now)
+        wall = np.asarray(hits.reshape(n, h).any(axis=1))
+        if wall.all():
+            wall[:] = False  # every stop meets a wall: the people decide
+    dist = np.linalg.norm((twists - c) / np.maximum(2.0 * acc * period, 1e-9), axis=1)
+    ok = (worst <= p.approach_speed) & ~wall
     if ok.any():
         k = int(np.argmin(np.where(ok, dist, np.inf)))
-    else:
-        k = int(np.lexsort((dist, np.round(worst, 4)))[0])
+    else:  # the slowest approach off the walls; among near-ties (0.1 mm/s), the nearest
+        best = float(np.min(np.where(wall, np.inf, worst)))
+        k = int(np.argmin(np.where(~wall & (worst <= best + 1e-4), dist, np.inf)))
     return twists[k].copy(), float(worst[k])

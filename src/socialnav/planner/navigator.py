@@ -296,10 +296,8 @@ class Navigator:
             t = float(time)
             problem = self._invalid(t, pose, velocity, social)
             if problem:
-                return self._limited(
-                    PlannerResult(np.zeros(3), PlannerStatus.INVALID_INPUT, None, problem),
-                    velocity,
-                )
+                stop = PlannerResult(np.zeros(3), PlannerStatus.INVALID_INPUT, None, problem)
+                return self._guarded(self._limited(stop, velocity), pose, velocity, social)
             self._step_index += 1
             pose_a, vel_a = np.asarray(pose, float), np.asarray(velocity, float)
             result = self._step(t, pose_a, vel_a, social)
@@ -345,16 +343,19 @@ class Navigator:
         return replace(result, cmd=cmd)
 
     def _guarded(
-        self, result: PlannerResult, pose: FloatArray, velocity: FloatArray, social: SocialContext
+        self, result: PlannerResult, pose: Any, velocity: Any, social: Any
     ) -> PlannerResult:
-        """``result`` with its command through the contact guard (module docstring)."""
-        if self.contact_guard is None:
+        """``result`` with its command through the contact guard (module docstring); as it is
+        when there is no guard or the pose, velocity or people cannot be read."""
+        q, v = np.asarray(pose, dtype=float), np.asarray(velocity, dtype=float)
+        readable = q.shape == v.shape == (3,) and np.all(np.isfinite(q)) and np.all(np.isfinite(v))
+        if self.contact_guard is None or not readable or not isinstance(social, SocialContext):
             return result
-        local = social.within(pose[:2], self.people_range)
+        local = social.within(q[:2], self.people_range)
         cmd, _ = guard_contact(
             result.cmd,
-            pose,
-            velocity,
+            q,
+            v,
             self.robot,
             local,
             self.controller_period,
