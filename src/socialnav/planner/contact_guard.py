@@ -66,7 +66,7 @@ from socialnav.core.geometry import (
 from socialnav.core.robot import RobotModel
 from socialnav.core.scene import SocialContext
 from socialnav.planner.critics.occupancy import footprint_outline
-from socialnav.planner.limits import velocity_box
+from socialnav.planner.limits import acceleration_limits, acceleration_window
 from socialnav.world.grid import LETHAL, Costmap
 
 #: the most braking steps a stop is followed for (5 s at 0.1 s; a robot within its limits
@@ -110,7 +110,7 @@ def braking_twists(twists: FloatArray, robot: RobotModel, period: float) -> Floa
     have stopped; ``H - 1`` braking steps, as many as the slowest-stopping twist needs (at most
     ``MAX_BRAKING_STEPS``: a twist far beyond the limits, or a tiny period, is not followed to
     a stop)."""
-    acc = np.array([robot.acc_lim_x, robot.acc_lim_y, robot.acc_lim_theta]) * period
+    acc = acceleration_limits(robot) * period
     need = np.where(acc > 0, np.abs(twists) / np.where(acc > 0, acc, 1.0), 0.0)
     steps = min(int(np.ceil(need.max(initial=0.0) - 1e-9)), MAX_BRAKING_STEPS)
     out = np.empty((twists.shape[0], steps + 1, 3))
@@ -152,7 +152,28 @@ def approach_speeds(
     at every step; people ``positions``/``velocities (K, 2)`` (m, m/s, world frame, forecast
     at constant velocity), ``radii (K,)`` m. ``-inf`` when it touches nobody. Raises nothing on
     finite input."""
-    poses = sequence_poses(pose, braking_twists(twists, robot, period), period)  # (N, H+1, 3)
+    poses = stop_poses(pose, twists, robot, period)
+    return approach_along(poses, robot, positions, velocities, radii, period, contact_tolerance)
+
+
+def stop_poses(
+    pose: FloatArray, twists: FloatArray, robot: RobotModel, period: float
+) -> FloatArray:
+    """``(N, H + 1, 3)``: the poses of each of ``twists (N, 3)`` followed by the full brake
+    (:func:`braking_twists`, :func:`sequence_poses`), starting at ``pose (3,)``."""
+    return sequence_poses(pose, braking_twists(twists, robot, period), period)
+
+
+def approach_along(
+    poses: FloatArray,
+    robot: RobotModel,
+    positions: FloatArray,
+    velocities: FloatArray,
+    radii: FloatArray,
+    period: float,
+    contact_tolerance: float,
+) -> FloatArray:
+    """:func:`approach_speeds` of pose sequences ``poses (N, H + 1, 3)`` one ``period`` apart."""
     h = poses.shape[1] - 1
     t = np.arange(h + 1) * period
     people = (positions[None] + t[:, None, None] * velocities[None])[None]  # (1, H+1, K, 2)
@@ -170,7 +191,7 @@ def approach_speeds(
     into = np.where(touch[:, 1:], (ahead - same[:, 1:]) / period, -np.inf)
     out = np.where(touch[:, :-1], (same[:, :-1] - behind) / period, -np.inf)
     worst: FloatArray = (
-        np.maximum(into, out).reshape(twists.shape[0], -1).max(axis=1, initial=-np.inf)
+        np.maximum(into, out).reshape(poses.shape[0], -1).max(axis=1, initial=-np.inf)
     )
     return worst
 
@@ -179,12 +200,7 @@ def _alternatives(
     cmd: FloatArray, velocity: FloatArray, robot: RobotModel, period: float, grid: int
 ) -> FloatArray:
     """``(M, 3)``: the command, the brake, then a grid over the acceleration window."""
-    lo, hi = velocity_box(robot)
-    acc = np.array([robot.acc_lim_x, robot.acc_lim_y, robot.acc_lim_theta]) * period
-    w_lo, w_hi = np.maximum(lo, velocity - acc), np.minimum(hi, velocity + acc)
-    # an empty window (a measured speed beyond the box): enforce_limits's box edge
-    empty = w_lo > w_hi
-    w_lo[empty] = w_hi[empty] = np.clip(velocity[empty], lo[empty], hi[empty])
+    w_lo, w_hi = acceleration_window(velocity, robot, period)
     axes = [np.linspace(w_lo[i], w_hi[i], grid) for i in range(3)]
     if not robot.holonomic:
         axes[1] = np.zeros(1)
@@ -289,7 +305,7 @@ def guard_contact(
     positions, velocities, radii = social.positions(), social.velocities(), social.radii()
     # Only people the footprint can touch before it has stopped (either side at full speed).
     speed = np.hypot(velocities[:, 0], velocities[:, 1])
-    acc = np.array([robot.acc_lim_x, robot.acc_lim_y, robot.acc_lim_theta])
+    acc = acceleration_limits(robot)
     stop = period + float(np.max(np.abs(v) / np.where(acc > 0, acc, np.inf))) + period
     reach = (robot.max_speed + speed) * stop + p.contact_tolerance + radii
     near = np.hypot(*(positions - q[:2]).T) <= robot.circumscribed_radius + reach
@@ -298,24 +314,23 @@ def guard_contact(
         return cmd, -np.inf
     positions, velocities, radii = positions[near], velocities[near], radii[near]
 
-    def worst_of(twists: FloatArray) -> FloatArray:
-        return approach_speeds(
-            q, twists, robot, positions, velocities, radii, period, p.contact_tolerance
+    def worst_of(stops: FloatArray) -> FloatArray:
+        return approach_along(
+            stops, robot, positions, velocities, radii, period, p.contact_tolerance
         )
 
-    first = worst_of(executed(c[None], robot))
+    first = worst_of(stop_poses(q, executed(c[None], robot), robot, period))
     if first[0] <= p.approach_speed:
         return cmd, float(first[0])
     twists = _alternatives(c, v, robot, period, p.grid)
-    done = executed(twists, robot)
-    worst = worst_of(done)
+    stops = stop_poses(q, executed(twists, robot), robot, period)  # (N, H + 1, 3)
+    worst = worst_of(stops)
     # Walls: no pose of the stop on a LETHAL cell the footprint is not on now.
     wall: NDArray[np.bool_] = np.zeros(twists.shape[0], dtype=bool)
     if costmap is not None:
+        n, h = stops.shape[0], stops.shape[1] - 1
         now = cells_under(costmap, q, robot)
-        stops = sequence_poses(q, braking_twists(done, robot, period), period)[:, 1:]
-        n, h = stops.shape[:2]
-        hits = footprint_on_lethal(costmap, stops.reshape(-1, 3), robot, now)
+        hits = footprint_on_lethal(costmap, stops[:, 1:].reshape(-1, 3), robot, now)
         wall = np.asarray(hits.reshape(n, h).any(axis=1))
         if wall.all():
             wall[:] = False  # every stop meets a wall: the people decide

@@ -31,6 +31,25 @@ def velocity_box(robot: RobotModel) -> tuple[FloatArray, FloatArray]:
     return lo, hi
 
 
+def acceleration_limits(robot: RobotModel) -> FloatArray:
+    """``(3,)`` ``acc_lim_x, acc_lim_y, acc_lim_theta`` (m/s², m/s², rad/s²)."""
+    return np.array([robot.acc_lim_x, robot.acc_lim_y, robot.acc_lim_theta])
+
+
+def acceleration_window(
+    velocity: FloatArray, robot: RobotModel, period: float
+) -> tuple[FloatArray, FloatArray]:
+    """``(lo (3,), hi (3,))``: the body twists reachable from the measured ``velocity (3,)``
+    within ``period`` s, inside the velocity box. Where the measured speed is beyond the box
+    (an empty window), both bounds are the box edge nearest it."""
+    lo, hi = velocity_box(robot)
+    acc = acceleration_limits(robot) * period
+    w_lo, w_hi = np.maximum(lo, velocity - acc), np.minimum(hi, velocity + acc)
+    empty = w_lo > w_hi
+    w_lo[empty] = w_hi[empty] = np.clip(velocity[empty], lo[empty], hi[empty])
+    return w_lo, w_hi
+
+
 def enforce_limits(
     cmd: ArrayLike, velocity: ArrayLike, robot: RobotModel, period: float
 ) -> FloatArray:
@@ -42,16 +61,9 @@ def enforce_limits(
     """
     c = np.asarray(cmd, dtype=float).reshape(3)
     v = np.asarray(velocity, dtype=float).reshape(3)
-    lo, hi = velocity_box(robot)
     if not (np.all(np.isfinite(c)) and np.all(np.isfinite(v))):
         return np.zeros(3)
-    acc = np.array([robot.acc_lim_x, robot.acc_lim_y, robot.acc_lim_theta]) * period
-    a_lo, a_hi = v - acc, v + acc
-    w_lo, w_hi = np.maximum(lo, a_lo), np.minimum(hi, a_hi)
-    out = np.clip(c, w_lo, w_hi)
-    # Empty window (measured speed beyond the box): the box edge nearest the measured speed.
-    empty = w_lo > w_hi
-    out[empty] = np.clip(v[empty], lo[empty], hi[empty])
+    out = np.clip(c, *acceleration_window(v, robot, period))
     if not robot.holonomic:
         out[1] = 0.0
     return out

@@ -33,6 +33,7 @@ import numpy as np
 from socialnav.core.geometry import FloatArray
 from socialnav.core.robot import RobotModel
 from socialnav.planner import kernels
+from socialnav.planner.limits import acceleration_limits
 
 
 @dataclass(frozen=True)
@@ -252,7 +253,7 @@ def _start(
     """What both searches start from: the twist change per step ``(3,)``, the distance each
     person must keep ``(K,)`` (someone already inside it: no nearer than now) and the state
     ``(1, 6)``."""
-    acc = np.array([robot.acc_lim_x, robot.acc_lim_y, robot.acc_lim_theta]) * p.step
+    acc = acceleration_limits(robot) * p.step
     now = np.hypot(*(people - pose[:2]).T) if len(people) else np.zeros(0)
     need = np.minimum(p.distance, now - 1e-6)
     return acc, need, np.concatenate([pose, twist])[None].astype(float)
