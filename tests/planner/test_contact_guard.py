@@ -29,6 +29,7 @@ from socialnav.planner.contact_guard import (
     footprint_on_lethal,
     guard_contact,
     sequence_poses,
+    stop_poses,
 )
 from socialnav.planner.limits import enforce_limits, within_limits
 from socialnav.planner.presets import PRESETS, build_navigator
@@ -41,8 +42,7 @@ SPEED = ContactGuardParams().approach_speed
 def _approach(cmd, pose, robot, social) -> float:
     return float(
         approach_speeds(
-            pose,
-            executed(np.asarray(cmd, float)[None], robot),
+            stop_poses(pose, executed(np.asarray(cmd, float)[None], robot), robot, DT),
             robot,
             social.positions(),
             social.velocities(),

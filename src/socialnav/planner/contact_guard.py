@@ -136,26 +136,6 @@ def sequence_poses(pose: FloatArray, twists: FloatArray, period: float) -> Float
     return out
 
 
-def approach_speeds(
-    pose: FloatArray,
-    twists: FloatArray,
-    robot: RobotModel,
-    positions: FloatArray,
-    velocities: FloatArray,
-    radii: FloatArray,
-    period: float,
-    contact_tolerance: float,
-) -> FloatArray:
-    """``(N,)`` the fastest (m/s) the footprint closes on a person it touches when each of
-    ``twists (N, 3)`` (body twists as executed) is followed for one ``period`` s and then the
-    robot brakes to a stop (:func:`braking_twists`), by the two tests of the module docstring
-    at every step; people ``positions``/``velocities (K, 2)`` (m, m/s, world frame, forecast
-    at constant velocity), ``radii (K,)`` m. ``-inf`` when it touches nobody. Raises nothing on
-    finite input."""
-    poses = stop_poses(pose, twists, robot, period)
-    return approach_along(poses, robot, positions, velocities, radii, period, contact_tolerance)
-
-
 def stop_poses(
     pose: FloatArray, twists: FloatArray, robot: RobotModel, period: float
 ) -> FloatArray:
@@ -164,7 +144,7 @@ def stop_poses(
     return sequence_poses(pose, braking_twists(twists, robot, period), period)
 
 
-def approach_along(
+def approach_speeds(
     poses: FloatArray,
     robot: RobotModel,
     positions: FloatArray,
@@ -173,7 +153,12 @@ def approach_along(
     period: float,
     contact_tolerance: float,
 ) -> FloatArray:
-    """:func:`approach_speeds` of pose sequences ``poses (N, H + 1, 3)`` one ``period`` apart."""
+    """``(N,)`` the fastest (m/s) the footprint closes on a person it touches along each of the
+    pose sequences ``poses (N, H + 1, 3)`` (m, rad, world frame; one ``period`` s apart, e.g. a
+    command and its stop, :func:`stop_poses`), by the two tests of the module docstring at
+    every step; people ``positions``/``velocities (K, 2)`` (m, m/s, world frame, forecast at
+    constant velocity), ``radii (K,)`` m. ``-inf`` when it touches nobody. Raises nothing on
+    finite input."""
     h = poses.shape[1] - 1
     t = np.arange(h + 1) * period
     people = (positions[None] + t[:, None, None] * velocities[None])[None]  # (1, H+1, K, 2)
@@ -315,7 +300,7 @@ def guard_contact(
     positions, velocities, radii = positions[near], velocities[near], radii[near]
 
     def worst_of(stops: FloatArray) -> FloatArray:
-        return approach_along(
+        return approach_speeds(
             stops, robot, positions, velocities, radii, period, p.contact_tolerance
         )
 
