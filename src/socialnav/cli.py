@@ -248,6 +248,7 @@ def _run_crowd(
             fmt=fmt,
             video=video,
             progress=_progress,
+            warn=_warn,
         )
     except ConfigurationError as exc:
         _fail(str(exc))
@@ -266,24 +267,37 @@ def _compare_crowds(
     switch_distance: float | None,
     backend: str = "local",
     address: str | None = None,
+    contexts: tuple[str, ...] = ("given",),
 ) -> None:
-    """``compare --suite crowds``: every --data file × planners (+ straight_line) × robots."""
+    """``compare --suite crowds``: every --data file × planners (+ straight_line) × robots,
+    once per social context."""
     from socialnav.core.errors import ConfigurationError
     from socialnav.crowds import load_recording
-    from socialnav.experiments.crowd import REPORT_SEEDS, crowd_specs, parse_seeds
+    from socialnav.experiments.crowd import (
+        REPORT_SEEDS,
+        check_stored_recordings,
+        crowd_specs,
+        parse_seeds,
+        unique_recordings,
+    )
+    from socialnav.experiments.results import ResultStore
     from socialnav.report.crowd import build_crowd_report
 
     if not data:
         _fail("--suite crowds needs --data FILE (a recorded crowd; repeat for several)")
     try:
-        for path in data:
+        files = unique_recordings([str(p) for p in data])
+        for path in files:
             load_recording(path)  # a bad file fails here, not as one error row per run
+        stored = [r for r in ResultStore(out, notify=_warn).load() if r.get("suite") == "crowds"]
+        check_stored_recordings(stored, files)
         specs = crowd_specs(
-            [str(p) for p in data],
+            files,
             planners,
             robots,
             parse_seeds(seeds or REPORT_SEEDS),
             switch_distance,
+            contexts,
         )
     except ConfigurationError as exc:
         _fail(str(exc))
@@ -432,6 +446,22 @@ def compare(
     contexts = {"given": ("given",), "detected": ("detected",), "both": ("given", "detected")}
     if context not in contexts:
         _fail(f"unknown context {context!r}; use given, detected or both")
+    # an option another suite reads would be ignored silently: refuse it, as `run` does
+    misplaced = {
+        "--data": bool(data) and suite != "crowds",
+        "--switch-distance": switch_distance is not None and suite != "crowds",
+        "--families": bool(families) and suite != "generated",
+        "--scenarios": bool(scenarios) and suite in ("crowds", "generated"),
+    }
+    for option, wrong in misplaced.items():
+        if wrong:
+            owner = {"--data": "crowds", "--switch-distance": "crowds", "--families": "generated"}
+            where = (
+                f"--suite {owner[option]}"
+                if option in owner
+                else "--suite paper, reactive or randomized"
+            )
+            _fail(f"{option} applies only with {where}, not --suite {suite}")
     try:
         check_backend(backend, address)
         planner_names = _split(planners) or compared_planners()
@@ -451,6 +481,7 @@ def compare(
                 switch_distance,
                 backend,
                 address,
+                contexts=contexts[context],
             )
             return
         if suite == "generated":
@@ -595,6 +626,8 @@ def validate(
     if problems:
         _fail("\n".join(f"{scenario}: {p}" for p in problems))
         return
+    for warning in loaded.group_warnings():
+        _warn(f"{scenario}: {warning}")
     typer.echo(f"{scenario}: ok ({loaded.name}, family {loaded.family})")
 
 

@@ -14,7 +14,7 @@ from typer.testing import CliRunner
 from shared import crowd_data, md_tables
 from socialnav.cli import app
 from socialnav.core.errors import ConfigurationError
-from socialnav.experiments.crowd import crowd_specs, parse_seeds
+from socialnav.experiments.crowd import crowd_specs, parse_seeds, recording_fingerprint
 from socialnav.experiments.results import ResultStore, load_results
 from socialnav.experiments.storage import load_episode
 
@@ -212,3 +212,108 @@ def test_run_help_says_which_options_apply_to_which_mode() -> None:
         for flag in flags:
             row = next(ln for ln in lines if ln.lstrip("│ ").startswith(f"{flag} "))
             assert mark in row.split(flag, 1)[1], row
+
+
+# --- newcomer trial: runs are keyed on the recording's name, so two files with one name ----
+
+
+def straight_line_crowds(data: list[Path], out: Path, *more: str):
+    args = ["compare", "--suite", "crowds", "--seeds", "0:1", "--planners", "straight_line"]
+    for d in data:
+        args += ["--data", str(d)]
+    return invoke(*args, "--robots", "pioneer", "--jobs", "1", "--out", out, *more)
+
+
+def two_recordings_named_walk(tmp_path: Path) -> tuple[Path, Path]:
+    (tmp_path / "a").mkdir()
+    (tmp_path / "b").mkdir()
+    first, second = tmp_path / "a" / "walk.txt", tmp_path / "b" / "walk.txt"
+    first.write_bytes(crowd_data("eth_hotel_obsmat.txt").read_bytes())
+    second.write_bytes(crowd_data("ucy_zara01_obsmat.txt").read_bytes())
+    return first, second
+
+
+def test_bug_two_recordings_with_one_name_overwrote_each_others_runs(tmp_path: Path) -> None:
+    first, second = two_recordings_named_walk(tmp_path)
+    # in one call: refused, naming both files (it ran both and kept one file's rows)
+    result = straight_line_crowds([first, second], tmp_path / "one")
+    assert result.exit_code == 2
+    message = " ".join(result.output.split())
+    assert "same name 'walk'" in message and str(first) in message
+    # across calls: the folder holds the first file's runs; resuming skipped the second file
+    out = tmp_path / "two"
+    assert straight_line_crowds([first], out).exit_code == 0
+    result = straight_line_crowds([second], out)
+    assert result.exit_code == 2, result.output
+    assert "already holds runs of another recording named 'walk'" in " ".join(result.output.split())
+    rows = load_results(out, suite="crowds")
+    assert {r["data_sha256"] for r in rows} == {recording_fingerprint(str(first))}
+    # the same file again, by another path: resumed, nothing refused
+    (tmp_path / "c").mkdir()
+    again = tmp_path / "c" / "walk.txt"
+    again.write_bytes(first.read_bytes())
+    result = straight_line_crowds([again, again], out)
+    assert result.exit_code == 0 and "1 runs (0 errors)" in result.output, result.output
+
+
+def test_runs_whose_people_switch_to_hl_are_labelled_and_reported_apart(tmp_path: Path) -> None:
+    hotel = crowd_data("eth_hotel_obsmat.txt")
+    out = tmp_path / "r"
+    assert straight_line_crowds([hotel], out).exit_code == 0
+    result = straight_line_crowds([hotel], out, "--switch-distance", "1.5")
+    assert result.exit_code == 0, result.output
+    rows = load_results(out, suite="crowds")
+    assert sorted(r["humans"] for r in rows) == ["replayed", "replayed+HL@1.5m"]
+    assert invoke("report", out).exit_code == 0
+    text = (out / "report.md").read_text()
+    assert "## Recording eth_hotel\n" in text
+    assert "## Recording eth_hotel, people switching to HL within 1.5 m" in text
+    # one row of one episode in each section: the two behaviours are never pooled
+    tables = [t for t in md_tables(text) if t[0][0] == "planner"]
+    assert [[row[2] for row in t[1:]] for t in tables] == [["1"], ["1"]]
+    assert "1 episode (" in text and "seed 0;" in text  # singular, one seed
+
+
+@pytest.mark.parametrize(
+    ("suite", "option"),
+    [
+        ("paper", ["--data", "x.txt"]),
+        ("generated", ["--switch-distance", "1.5"]),
+        ("crowds", ["--families", "hallway"]),
+        ("crowds", ["--scenarios", "group_join"]),
+        ("generated", ["--scenarios", "group_join"]),
+    ],
+)
+def test_compare_refuses_an_option_its_suite_would_ignore(
+    tmp_path: Path, suite: str, option: list[str]
+) -> None:
+    result = invoke("compare", "--suite", suite, *option, "--out", tmp_path / "r")
+    assert result.exit_code == 2
+    assert f"{option[0]} applies only with" in " ".join(result.output.split())
+    assert not (tmp_path / "r").exists()
+
+
+def test_compare_crowds_runs_each_context_and_reports_them_apart(tmp_path: Path) -> None:
+    out = tmp_path / "r"
+    result = straight_line_crowds([crowd_data("eth_hotel_obsmat.txt")], out, "--context", "both")
+    assert result.exit_code == 0, result.output
+    rows = load_results(out, suite="crowds")
+    assert sorted(r["context"] for r in rows) == ["detected", "given"]
+    assert len({r["run_id"] for r in rows}) == 2
+    text = (out / "report.md").read_text()
+    assert "## Recording eth_hotel\n" in text and "## Recording eth_hotel, context detected" in text
+
+
+def test_run_crowd_warns_of_a_task_unlike_the_suites(tmp_path: Path) -> None:
+    # newcomer trial: a start on a person, or a t0 near the recording's end, ran without a word
+    on_someone = ("--t0", "33.2", "--start", "0.229", "12.906", "--goal", "-4.25", "16.78")
+    result = run_zara(*on_someone, "--planner", "straight_line", "--out", tmp_path / "a")
+    assert result.exit_code == 0, result.output
+    assert "warning: person 16 is 0.00 m from --start at --t0 33.2 s" in result.stderr
+    assert len(json.loads(result.stdout)["warnings"]) == 1
+    late = ("--t0", "355", "--start", "-1.9", "6.41", "--goal", "-4.25", "16.78")
+    result = run_zara(*late, "--planner", "straight_line", "--out", tmp_path / "b")
+    assert result.exit_code == 0, result.output
+    assert "the recording ends" in result.stderr and "nobody is in the scene" in result.stderr
+    result = run_zara(*ZARA_TASK, "--planner", "straight_line", "--out", tmp_path / "c")
+    assert json.loads(result.stdout)["warnings"] == [] and "warning" not in result.stderr

@@ -151,3 +151,53 @@ def test_missing_file_and_unknown_columns(tmp_path: Path) -> None:
     groups.write_text("1 2\n3 b\n")
     with pytest.raises(RecordingFormatError, match="line 2"):
         load_groups(groups)
+
+
+# --- newcomer trial: what a recording file may look like, and what gets a clear error -------
+
+
+def test_a_blank_first_line_and_commas_are_read_as_usual(tmp_path: Path) -> None:
+    # a blank first line made pandas take the file for one column ("Expected 1 fields in line
+    # 2, saw 8"); a comma-separated obsmat was read as one column
+    plain = load_obsmat(write_obsmat(tmp_path / "plain_obsmat.txt"))
+    blank = tmp_path / "blank_obsmat.txt"
+    blank.write_text("\n" + (tmp_path / "plain_obsmat.txt").read_text())
+    commas = tmp_path / "commas_obsmat.txt"
+    commas.write_text("".join(f"{f},{i},{x},0,{y},0,0,0\n" for f, i, x, y in ROWS))
+    for path in (blank, commas):
+        assert as_dict(load_recording(path)) == as_dict(plain)
+
+
+def test_a_row_with_an_extra_column_names_its_line(tmp_path: Path) -> None:
+    path = write_obsmat(tmp_path / "extra_obsmat.txt")
+    lines = path.read_text().splitlines()
+    lines[2] += " 7.0"
+    path.write_text("\n".join(lines) + "\n")
+    with pytest.raises(RecordingFormatError, match=r"extra_obsmat.txt: line 3: expected 8 col"):
+        load_recording(path)
+
+
+@pytest.mark.parametrize("suffix", ["_obsmat.txt", ".ndjson", "_groups.txt"])
+def test_bytes_that_are_not_text_are_refused_with_the_line(tmp_path: Path, suffix: str) -> None:
+    path = tmp_path / f"binary{suffix}"
+    path.write_bytes(b"1 1 0 0 0 0 0 0\n\xff\xfe\x00garbage\n")
+    load = load_groups if suffix == "_groups.txt" else load_recording
+    with pytest.raises(RecordingFormatError, match=r"binary.*: line 2: not a text file"):
+        load(path)
+
+
+@pytest.mark.parametrize("fps", [0, -2.5])
+def test_a_trajnet_scene_rate_must_be_positive(tmp_path: Path, fps: float) -> None:
+    path = write_trajnet(tmp_path / "rate.ndjson", fps=fps)
+    with pytest.raises(RecordingFormatError, match=r"rate.ndjson: line 1: scene.fps must be pos"):
+        load_recording(path)
+
+
+@pytest.mark.parametrize("bad", ["4.7", "x", "nan", "1e400"])
+def test_group_ids_must_be_integers(tmp_path: Path, bad: str) -> None:
+    path = tmp_path / "groups.txt"
+    path.write_text(f"1 2\n3 {bad}\n")
+    with pytest.raises(RecordingFormatError, match=rf"groups.txt: line 2: .*integers.*{bad}"):
+        load_groups(path)
+    path.write_text("1 2\n3 4.0\n")
+    assert load_groups(path) == ((1, 2), (3, 4))

@@ -143,6 +143,32 @@ def test_detect_names_a_malformed_recording(tmp_path: Path):
     assert "Traceback" not in res.output
 
 
+@pytest.mark.parametrize("name", ["walk.xyz", "walk", "walk.parquet"])
+def test_detect_names_an_unsupported_file_type(tmp_path: Path, name: str):
+    # newcomer trial: a valid recording renamed .xyz was read as a scenario YAML ("(top
+    # level): expected a mapping, got str")
+    src = _four_column(tmp_path / "walk.txt").rename(tmp_path / name)
+    res = CliRunner().invoke(app, ["detect", str(src), "--out", str(tmp_path / "o")])
+    assert res.exit_code == 2
+    message = " ".join(res.output.split())
+    assert (
+        f"{name}: unsupported file type" in message and ".ndjson" in message and ".yaml" in message
+    )
+
+
+def test_detect_checks_the_noise_option_before_simulating_a_scenario(tmp_path: Path, monkeypatch):
+    import socialnav.experiments.planners as planners
+
+    def never(*args, **kwargs):
+        raise AssertionError("the episode was simulated before the option was checked")
+
+    monkeypatch.setattr(planners, "run_planner_episode", never)
+    res = CliRunner().invoke(
+        app, ["detect", "group_join", "--noise", "loud", "--out", str(tmp_path)]
+    )
+    assert res.exit_code == 2 and "unknown noise 'loud'" in res.output
+
+
 def test_perception_bounds_must_be_finite():
     from socialnav.sim.perception import PerceptionModel
 

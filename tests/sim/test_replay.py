@@ -6,9 +6,12 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from socialnav.core.errors import ConfigurationError
 from socialnav.core.robot import ROBOT_MODELS
+from socialnav.core.scene import SocialContext
 from socialnav.crowds import Recording, Track, open_space_costmap
 from socialnav.metrics import compute_metrics, evaluate_success
+from socialnav.planner.local_planner import PlannerResult, PlannerStatus
 from socialnav.sim.replay import CrowdTask, crowd_scenario, run_crowd_episode
 
 
@@ -100,3 +103,50 @@ def test_partial_presence_survives_storage(tmp_path) -> None:
     np.testing.assert_allclose(back.people_positions, r.people_positions, equal_nan=True)
     assert back.family == "crowd"
     assert compute_metrics(back) == pytest.approx(compute_metrics(r), nan_ok=True)
+
+
+class Watcher:
+    """A controller that stands still and keeps what it was shown each cycle."""
+
+    def __init__(self) -> None:
+        self.seen: list[SocialContext] = []
+
+    def reset(self, scenario, robot) -> None:
+        self.seen = []
+
+    def step(self, time, pose, velocity, social) -> PlannerResult:
+        self.seen.append(social)
+        return PlannerResult(np.zeros(3), PlannerStatus.OK)
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_a_detected_context_shows_the_controller_noisy_tracks_of_the_present(seed: int) -> None:
+    # `compare --suite crowds --context detected` was accepted and silently ran the given context
+    rec = crowd()
+    watched = {}
+    for context in ("given", "detected"):
+        watcher = Watcher()
+        result = run_crowd_episode(rec, TASK, watcher, "pr2", seed, context=context)
+        watched[context] = (watcher.seen, result.record)
+    given, record = watched["given"]
+    detected, again = watched["detected"]
+    assert record.meta["context"] == "given" and again.meta["context"] == "detected"
+    assert "estimator_ms_median" not in record.meta and again.meta["estimator_ms_median"] >= 0
+    # the metrics are of the true people: the robot stood still, so the records agree
+    np.testing.assert_array_equal(record.people_positions, again.people_positions)
+    errors = []
+    for k, (true, seen) in enumerate(zip(given, detected, strict=True)):
+        truth = {p.id: np.asarray(p.position) for p in true.people}
+        assert set(truth) == {
+            int(i) for i, on in zip(record.people_ids, record.people_present[k], strict=True) if on
+        }
+        for p in seen.people:
+            if p.id in truth:  # false positives have ids of their own
+                errors.append(np.hypot(*(np.asarray(p.position) - truth[p.id])))
+    # the default tracker: 5 cm of position noise per axis (a few misses, a filter on top)
+    assert 0.005 < float(np.median(errors)) < 0.1
+
+
+def test_an_unknown_crowd_context_is_refused() -> None:
+    with pytest.raises(ConfigurationError, match="unknown context 'seen'"):
+        run_crowd_episode(crowd(), TASK, "straight_line", "pr2", context="seen")

@@ -22,8 +22,10 @@ spaces. Every error names the file and the line.
 
 from __future__ import annotations
 
+import io
 import json
 import math
+import re
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -58,14 +60,38 @@ def _period(frame_period: float | None, default: float, path: Path) -> float:
     return period
 
 
+def _read_text(path: Path) -> str:
+    """The file's text (UTF-8, a byte-order mark dropped). Raises
+    :class:`RecordingFormatError` for a missing file, a folder, or bytes that are not text."""
+    _require_file(path)
+    data = path.read_bytes()
+    try:
+        text = data.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        line = data[: exc.start].count(b"\n") + 1
+        raise RecordingFormatError(
+            f"{path}: line {line}: not a text file (byte {exc.start} is not UTF-8)"
+        ) from exc
+    if "\x00" in text:
+        line = text[: text.index("\x00")].count("\n") + 1
+        raise RecordingFormatError(f"{path}: line {line}: not a text file (a NUL byte)")
+    return text
+
+
 def _read_table(path: Path, columns: Sequence[str], sep: str) -> pd.DataFrame:
     """Numeric columns of a text table; ``line`` (1-based) kept for error messages."""
-    _require_file(path)
+    text = _read_text(path)
+    # pandas infers the width from the first line (a blank first line would make it 1, and
+    # a longer row later a parser error): give it the widest line's field count instead
+    width = max(
+        (len(re.split(sep, line.split("#", 1)[0])) for line in text.splitlines()), default=0
+    )
     try:
         raw = pd.read_csv(
-            path,
+            io.StringIO(text),
             sep=sep,
             header=None,
+            names=range(max(width, 1)),
             dtype=str,
             skip_blank_lines=False,
             engine="python",
@@ -156,15 +182,22 @@ def load_groups(path: str | Path) -> tuple[tuple[int, ...], ...]:
     p = Path(path)
     _require_file(p)
     groups = []
-    for number, line in enumerate(p.read_text().splitlines(), start=1):
+    for number, line in enumerate(_read_text(p).splitlines(), start=1):
         fields = line.split()
         if not fields:
             continue
-        try:
-            ids = tuple(int(float(f)) for f in fields)
-        except ValueError as exc:
-            raise RecordingFormatError(f"{p}: line {number}: person ids must be integers") from exc
-        groups.append(ids)
+        ids = []
+        for field in fields:
+            try:
+                value = float(field)
+            except ValueError:
+                value = math.nan
+            if not (math.isfinite(value) and value == round(value)):
+                raise RecordingFormatError(
+                    f"{p}: line {number}: person ids must be integers, got {field!r}"
+                )
+            ids.append(int(value))
+        groups.append(tuple(ids))
     return tuple(groups)
 
 
@@ -194,7 +227,7 @@ def load_obsmat(
     """
     p = Path(path)
     period = _period(frame_period, OBSMAT_FRAME_PERIOD, p)
-    df = _read_table(p, OBSMAT_COLUMNS, r"\s+")
+    df = _read_table(p, OBSMAT_COLUMNS, r"[\s,]+")
     return _with_groups(_tracks(df, period, p), _groups(groups), period, p, "obsmat", max_gap)
 
 
@@ -227,7 +260,7 @@ def load_trajnet(
     _require_file(p)
     rows: list[tuple[int, int, float, float, int]] = []
     fps: list[float] = []
-    for number, line in enumerate(p.read_text().splitlines(), start=1):
+    for number, line in enumerate(_read_text(p).splitlines(), start=1):
         if not line.strip():
             continue
         try:
@@ -239,7 +272,12 @@ def load_trajnet(
         if "scene" in obj:
             scene = obj["scene"]
             if isinstance(scene, dict) and "fps" in scene:
-                fps.append(_number(scene["fps"], p, number, "scene.fps"))
+                rate = _number(scene["fps"], p, number, "scene.fps")
+                if rate <= 0:
+                    raise RecordingFormatError(
+                        f"{p}: line {number}: scene.fps must be positive, got {rate:g}"
+                    )
+                fps.append(rate)
             continue
         track = obj["track"]
         if not isinstance(track, dict):
@@ -303,22 +341,20 @@ def detect_format(path: str | Path) -> str:
     p = Path(path)
     if p.suffix.lower() in (".ndjson", ".json", ".jsonl"):
         return "trajnet"
-    _require_file(p)
-    with p.open() as handle:
-        for number, line in enumerate(handle, start=1):
-            fields = [f for f in line.replace(",", " ").split() if f]
-            if not fields or fields[0].startswith("#"):
-                continue
-            if line.lstrip().startswith("{"):
-                return "trajnet"
-            if len(fields) == 8:
-                return "obsmat"
-            if len(fields) == 4:
-                return "four_column"
-            raise RecordingFormatError(
-                f"{p}: line {number}: {len(fields)} columns; expected 8 (obsmat) or 4 "
-                "(frame id x y), or a .ndjson Trajnet++ file"
-            )
+    for number, line in enumerate(_read_text(p).splitlines(), start=1):
+        fields = [f for f in line.replace(",", " ").split() if f]
+        if not fields or fields[0].startswith("#"):
+            continue
+        if line.lstrip().startswith("{"):
+            return "trajnet"
+        if len(fields) == 8:
+            return "obsmat"
+        if len(fields) == 4:
+            return "four_column"
+        raise RecordingFormatError(
+            f"{p}: line {number}: {len(fields)} columns; expected 8 (obsmat) or 4 "
+            "(frame id x y), or a .ndjson Trajnet++ file"
+        )
     raise RecordingFormatError(f"{p}: no data rows")
 
 

@@ -8,10 +8,11 @@ SocNavBench / Francis et al. (``socialnav.metrics.crowd``).
 
 from __future__ import annotations
 
+import hashlib
 import math
 import time
 import traceback
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import asdict, dataclass
 from functools import lru_cache
 from pathlib import Path
@@ -43,22 +44,28 @@ CROWD_METRICS = (
 class CrowdSpec:
     """One crowd run. ``data``: a recording file (any format of ``socialnav.crowds``);
     ``switch_distance`` (m): replayed people within it of the robot switch to navground HL
-    (``None``: they never react)."""
+    (``None``: they never react); ``context``: what the planner sees, ``given`` (the people,
+    exactly) or ``detected`` (noisy tracks and the context estimator's structures;
+    ``socialnav.sim.replay.run_crowd_episode``)."""
 
     data: str
     planner: str
     robot: str
     seed: int
     switch_distance: float | None = None
+    context: str = "given"
 
     @property
     def scenario(self) -> str:
-        return Path(self.data).stem.removesuffix("_obsmat")
+        """The recording's name (:func:`recording_name`)."""
+        return recording_name(self.data)
 
     @property
     def run_id(self) -> str:
         react = "" if self.switch_distance is None else f"_hl{self.switch_distance:g}"
-        return f"{self.scenario}__{self.planner}__{self.robot}__crowd{react}__s{self.seed}"
+        # the given context keeps the ids runs had before contexts, so their results resume
+        seen = "" if self.context == "given" else f"__{self.context}"
+        return f"{self.scenario}__{self.planner}__{self.robot}__crowd{react}{seen}__s{self.seed}"
 
 
 def parse_seeds(text: str) -> range:
@@ -81,17 +88,85 @@ def crowd_specs(
     robots: list[str],
     seeds: range,
     switch_distance: float | None = None,
+    contexts: Sequence[str] = ("given",),
 ) -> list[CrowdSpec]:
     """Every planner (the first one, then the straight-line reference, then the others) × file
-    × robot × seed, in that order: an interrupted suite has the first planner complete."""
+    × robot × seed × context, in that order: an interrupted suite has the first planner
+    complete. A file
+    given twice runs once. Raises ConfigurationError when two different files share a
+    recording name (:attr:`CrowdSpec.scenario`): runs, results and report sections are keyed
+    on it."""
+    files = unique_recordings(data)
     names = list(dict.fromkeys([*planners[:1], REFERENCE, *planners[1:]]))
     return [
-        CrowdSpec(str(d), p, r, s, switch_distance)
+        CrowdSpec(d, p, r, s, switch_distance, c)
         for p in names
-        for d in data
+        for d in files
         for r in robots
         for s in seeds
+        for c in contexts
     ]
+
+
+def recording_name(path: str | Path) -> str:
+    """The name a recording's runs, rows and report section go by: the file's stem without
+    ``_obsmat`` (``eth_hotel_obsmat.txt`` → ``eth_hotel``)."""
+    return Path(path).stem.removesuffix("_obsmat")
+
+
+def unique_recordings(data: list[str]) -> list[str]:
+    """``data`` without repeats of one file (same resolved path). Raises ConfigurationError
+    when two different files have one :func:`recording_name`."""
+    seen: dict[str, Path] = {}
+    out: list[str] = []
+    for d in data:
+        name, where = recording_name(d), Path(d).resolve()
+        if name in seen:
+            if seen[name] != where:
+                raise ConfigurationError(
+                    f"{d}: another recording given, {seen[name]}, has the same name {name!r}; "
+                    "runs and report sections are named after the file, so rename one"
+                )
+            continue
+        seen[name] = where
+        out.append(str(d))
+    return out
+
+
+@lru_cache(maxsize=32)
+def recording_fingerprint(path: str) -> str:
+    """The first 16 hex digits of the SHA-256 of the file's bytes: which recording a stored
+    row was run on, whatever path it was given by."""
+    digest = hashlib.sha256()
+    with open(path, "rb") as handle:
+        for block in iter(lambda: handle.read(1 << 20), b""):
+            digest.update(block)
+    return digest.hexdigest()[:16]
+
+
+def check_stored_recordings(stored: list[dict[str, Any]], data: list[str]) -> None:
+    """Refuse to add runs of a recording to a results folder that holds runs of a *different*
+    recording of the same name (``stored``: the folder's crowd rows; ``data``: the files about
+    to run): their run ids would coincide, so resuming would skip the new file and the report
+    would pool the two. Rows stored before fingerprints were kept (no ``data_sha256``) are
+    compared by resolved path. Raises ConfigurationError naming both files."""
+    mine = {recording_name(d): (d, recording_fingerprint(str(d))) for d in data}
+    for row in stored:
+        name = recording_name(str(row.get("data", "")))
+        if name not in mine:
+            continue
+        given, fingerprint = mine[name]
+        theirs = row.get("data_sha256")
+        same = (
+            theirs == fingerprint
+            if isinstance(theirs, str) and theirs
+            else Path(str(row["data"])).resolve() == Path(given).resolve()
+        )
+        if not same:
+            raise ConfigurationError(
+                f"{given}: the results folder already holds runs of another recording named "
+                f"{name!r} ({row['data']}); use another --out, or rename the file"
+            )
 
 
 @lru_cache(maxsize=8)
@@ -127,6 +202,7 @@ def run_crowd_planner(spec: CrowdSpec, record_diagnostics: bool = False) -> Any:
         seed=spec.seed,
         record_diagnostics=record_diagnostics,
         switch_distance=spec.switch_distance,
+        context=spec.context,
     )
     meta = result.record.meta
     meta.update({"planner": spec.planner, "flow": episode.flow, "people_near": episode.people_near})
@@ -160,7 +236,7 @@ def check_crowd_task(
 ) -> None:
     """Raise a :class:`ConfigurationError` naming the file for a task the recording cannot
     hold: an area of zero width or height (every position on one line), ``t0`` (s) outside
-    the recording's time span (0 to its last sample), ``start``/``goal`` (m) outside its
+    the recording's time span (its first to its last sample), ``start``/``goal`` (m) outside its
     annotated area (:attr:`Recording.area`, the border of the crowd's open space) shrunk by
     ``margin`` (m: the robot's circumscribed radius, so its footprint starts and ends clear of
     the border at any heading), a ``goal`` within the goal tolerance of ``start`` (nothing to
@@ -175,10 +251,10 @@ def check_crowd_task(
             f"{where}: the recorded area has zero {flat} is {value:g}); a robot task needs "
             "people recorded over an area"
         )
-    if not (math.isfinite(t0) and 0.0 <= t0 <= recording.end_time):
+    if not (math.isfinite(t0) and recording.start_time <= t0 <= recording.end_time):
         raise ConfigurationError(
-            f"--t0 {t0:g}: outside the recording's time span 0 to {recording.end_time:g} s "
-            f"({where})"
+            f"--t0 {t0:g}: outside the recording's time span {recording.start_time:g} to "
+            f"{recording.end_time:g} s ({where})"
         )
     for flag, xy in (("--start", start), ("--goal", goal)):
         if not bool(area.contains(np.asarray(xy, dtype=float), margin)):
@@ -208,15 +284,18 @@ def run_crowd_spec(
     spec: CrowdSpec, out_dir: Path | None = None, figure: bool = False
 ) -> dict[str, Any]:
     """One crowd run's result row (metrics, success conditions, timing, error)."""
+    from socialnav.sim.replay import humans_label
+
     row: dict[str, Any] = {
         **asdict(spec),
         "scenario": spec.scenario,
-        "humans": "replayed",
+        "humans": humans_label(spec.switch_distance),
         "run_id": spec.run_id,
         "error": None,
     }
     started = time.perf_counter()
     try:
+        row["data_sha256"] = recording_fingerprint(spec.data)
         from socialnav.experiments.results import condition_column, metric_column
         from socialnav.metrics import compute_metrics, evaluate_success
 
@@ -236,6 +315,7 @@ def run_crowd_spec(
             people_total=int(record.people_ids.shape[0]),
             planner_ms_median=float(record.meta.get("planner_ms_median", np.nan)),
             planner_ms_p95=float(record.meta.get("planner_ms_p95", np.nan)),
+            estimator_ms_median=float(record.meta.get("estimator_ms_median", np.nan)),
             # every step's time, so the report pools percentiles over steps, not episodes
             planner_ms_steps=record.meta.get("planner_ms_steps", []),
         )
@@ -247,6 +327,35 @@ def run_crowd_spec(
         row["error"] = f"{type(exc).__name__}: {exc}\n{traceback.format_exc(limit=4)}"
     row["wall_time_s"] = time.perf_counter() - started
     return row
+
+
+def crowd_task_warnings(
+    recording: Any, t0: float, start: tuple[float, float], time_limit: float
+) -> list[str]:
+    """What makes a hand-given task (``socialnav run --crowd``) unlike the suite's episodes
+    (:mod:`socialnav.crowds.episodes`), one line each: someone within ``CLEARANCE`` (1 m) of
+    ``start`` (m) at ``t0`` (s), who may stand on the robot; a recording that ends before
+    ``t0 + time_limit``, after which the robot drives among nobody."""
+    from socialnav.crowds.episodes import CLEARANCE
+
+    out = []
+    state = recording.state_at(float(t0))
+    here, ids = state.positions[0][state.present[0]], state.ids[state.present[0]]
+    if here.size:
+        gaps = np.hypot(*(here - np.asarray(start, dtype=float)).T)
+        k = int(np.argmin(gaps))
+        if gaps[k] < CLEARANCE:
+            out.append(
+                f"person {int(ids[k])} is {gaps[k]:.2f} m from --start at --t0 {t0:g} s (the "
+                f"suite's episodes keep everyone {CLEARANCE:g} m away at the start)"
+            )
+    left = recording.end_time - float(t0)
+    if left < time_limit:
+        out.append(
+            f"the recording ends {left:.1f} s after --t0 (the run may last {time_limit:g} s): "
+            "nobody is in the scene after that"
+        )
+    return out
 
 
 def run_crowd_single(
@@ -263,13 +372,15 @@ def run_crowd_single(
     fmt: str = "parquet",
     video: str = "none",
     progress: Callable[[str], None] | None = None,
+    warn: Callable[[str], None] | None = None,
 ) -> dict[str, Any]:
     """``socialnav run --crowd``: one task in a recording, written to ``out`` with the files of
     a scenario run (:func:`socialnav.experiments.run.write_run`); ``metrics.json`` holds the
     crowd metrics (:data:`CROWD_METRICS`) and ``topdown.png`` draws the crowd's tracks. The robot
     starts facing the goal; ``t0`` and ``time_limit`` are seconds, ``start``/``goal`` and
     ``switch_distance`` metres. A crowd run has no seed (``episode.json`` stores none).
-    ``progress`` receives a line per stage. Raises :class:`ConfigurationError` for an unknown
+    ``progress`` receives a line per stage, ``warn`` each of :func:`crowd_task_warnings`
+    (also in the summary's ``warnings``). Raises :class:`ConfigurationError` for an unknown
     planner, robot or format, an ``out`` that is a file, ``mp4`` without the ``video`` extra,
     a bad file or a task the recording cannot hold (:func:`check_crowd_task`), all before the
     episode runs."""
@@ -287,6 +398,9 @@ def run_crowd_single(
     recording = load_recording(data)
     radius = ROBOT_MODELS[robot].circumscribed_radius
     check_crowd_task(recording, t0, start, goal, switch_distance, margin=radius)
+    warnings = crowd_task_warnings(recording, t0, start, time_limit)
+    for line in warnings:
+        (warn or (lambda line: None))(line)
     say = progress or (lambda line: None)
     say(f"running {recording.name} from t0 = {t0:g} s with {planner} on {robot} …")
     yaw = math.atan2(goal[1] - start[1], goal[0] - start[0])
@@ -322,9 +436,11 @@ def run_crowd_single(
         "t0": t0,
         "planner": planner,
         "robot": robot,
+        "switch_distance": switch_distance,
         "steps": record.num_steps,
         "people": int(record.people_ids.shape[0]),
         "success": success["success"],
         "wall_time_s": round(result.wall_time, 2),
+        "warnings": warnings,
         "out": str(out),
     }

@@ -34,6 +34,11 @@ from socialnav.social.perception.base import STANDING_SPEED
 STRUCTURES_FILE = "structures.parquet"
 
 
+def _check_noise(noise: str) -> None:
+    if noise not in ("default", "none"):
+        raise ConfigurationError(f"unknown noise {noise!r}; use default or none")
+
+
 def _record_of(source: str) -> EpisodeRecord:
     path = Path(source)
     if path.is_dir():
@@ -46,11 +51,18 @@ def _record_of(source: str) -> EpisodeRecord:
     from socialnav.experiments.suite import EpisodeSpec
     from socialnav.sim.scenario import load_scenario
 
+    if path.is_file() and path.suffix.lower() not in SCENARIO_SUFFIXES:
+        raise ConfigurationError(
+            f"{path}: unsupported file type {path.suffix or '(none)'!r}; give a crowd recording "
+            f"({', '.join(RECORDING_SUFFIXES)}), a scenario ({', '.join(SCENARIO_SUFFIXES)}), "
+            "an episode folder or a built-in scenario name"
+        )
     load_scenario(source)  # names the file and field on bad input
     return run_planner_episode(EpisodeSpec(source, "traditional", "pr2")).record
 
 
 RECORDING_SUFFIXES = (".txt", ".csv", ".ndjson", ".json", ".jsonl")
+SCENARIO_SUFFIXES = (".yaml", ".yml")
 
 
 def _recording_of(source: str) -> Recording | None:
@@ -160,8 +172,7 @@ def _detect_frames(
     person faces their velocity, a standing one keeps the last heading, from ``yaw0 (P,)``)."""
     from socialnav.sim.perception import DEFAULT_PERCEPTION, EXACT_PERCEPTION, PerceptionModel
 
-    if noise not in ("default", "none"):
-        raise ConfigurationError(f"unknown noise {noise!r}; use default or none")
+    _check_noise(noise)
     estimator = ContextEstimator(
         knowledge, dataclasses.replace(params or EstimatorParams(), group_mode=mode)
     )
@@ -250,6 +261,7 @@ def detect_file(
     from socialnav.viz.context import plot_context
     from socialnav.viz.topdown import save_figure
 
+    _check_noise(noise)  # before a scenario's episode is simulated, not after
     recording = _recording_of(source)
     if recording is not None:
         estimates, table = detect_recording(recording, noise, seed, params)

@@ -22,7 +22,9 @@ boolean ``ok_<condition>`` per success condition of the family (overall success 
 ``success``, stored once); ``error`` (null when the episode ran) and the timing columns
 ``wall_time_s``, ``planner_ms_median`` and ``estimator_ms_median``, which are the only ones that
 differ between two runs of the same spec. Crowd rows (``--suite crowds``) hold the recording
-``data`` and ``switch_distance`` in place of the scenario spec, the episode's ``t0``, ``flow``,
+``data`` (the path given), its ``data_sha256`` (which file that was: the first 16 hex digits
+of its SHA-256), ``switch_distance`` and ``context`` in place of the scenario spec, the
+episode's ``t0``, ``flow``,
 ``people_near`` and ``people_total``, and the timings ``planner_ms_p95`` and
 ``planner_ms_steps`` (every cycle, so a report pools percentiles over steps).
 """
@@ -144,7 +146,8 @@ def _run_id(row: dict[str, Any]) -> str:
 
     kind: type[EpisodeSpec] | type[CrowdSpec] = CrowdSpec if "data" in row else EpisodeSpec
     names = {f.name for f in dataclasses.fields(kind)}
-    return kind(**{k: v for k, v in row.items() if k in names}).run_id
+    # a column added later reads as null in older rows: the field's default then applies
+    return kind(**{k: v for k, v in row.items() if k in names and v is not None}).run_id
 
 
 class ResultStore:

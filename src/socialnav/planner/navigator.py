@@ -4,6 +4,10 @@ Banisetty et al., "Trajectory Planning": a global planner over the map, "regener
 seconds", and a local planner that follows it; move_base's role in ROS.
 
 Decisions:
+- A standing group that fails the sanity limits of :mod:`socialnav.social.plausibility` (an
+  implausible circle, a far member, two members on one spot) is dropped from the context each
+  cycle (:func:`~socialnav.social.plausibility.plausible_context`): it is neither a join
+  target nor an o-space to keep out of, and its members are planned around as people.
 - The target is the social goal when ``social_goal_fn`` returns one. A *waypoint* social goal
   (``is_waypoint``) is driven to first; once the robot is within its ``position_tolerance``
   (at least the planner's ``xy_goal_tolerance``) it is remembered as passed and the given goal
@@ -100,6 +104,7 @@ from socialnav.planner.limits import CycleClock, enforce_limits
 from socialnav.planner.local_planner import PlannerResult, PlannerStatus
 from socialnav.planner.protocols import LocalPlannerProtocol
 from socialnav.social.goals import SocialGoal
+from socialnav.social.plausibility import plausible_context
 from socialnav.world.costmap import add_obstacle_discs, crop
 from socialnav.world.grid import INSCRIBED, LETHAL, Costmap
 
@@ -373,6 +378,9 @@ class Navigator:
         self, time: float, pose: FloatArray, velocity: FloatArray, social: SocialContext
     ) -> PlannerResult:
         now = self._clock.tick(time)
+        # a group no conversation could form (socialnav.social.plausibility) is neither a join
+        # target nor an o-space to keep out of: its members are planned around as people
+        social = plausible_context(social)
         social_goal = self._social_goal(social, pose)
         target = self._target(social_goal, pose)
         if target is self.goal:

@@ -113,6 +113,27 @@ def _order(planners: set[str]) -> list[str]:
     return known + rest + ([REFERENCE] if REFERENCE in planners else [])
 
 
+def switch_distance(row: dict[str, Any]) -> float | None:
+    """The row's ``switch_distance`` (m), or None when its people never react."""
+    value = row.get("switch_distance")
+    if value is None:
+        return None
+    value = float(value)
+    return None if math.isnan(value) else value
+
+
+def _count(n: int, noun: str) -> str:
+    return f"{n} {noun}" if n == 1 else f"{n} {noun}s"
+
+
+def _seed_span(seeds: Sequence[int]) -> str:
+    if not seeds:
+        return "no seeds"
+    if len(seeds) == 1:
+        return f"seed {seeds[0]}"
+    return f"seeds {seeds[0]}–{seeds[-1]}"
+
+
 def dataset_table(
     rows: Sequence[dict[str, Any]],
 ) -> tuple[list[list[Any]], dict[tuple[str, str], dict[str, float]]]:
@@ -218,28 +239,61 @@ def build_crowd_report(rows: Sequence[dict[str, Any]], out_dir: Path) -> Path:
     """Write ``report.md`` and ``report.html`` of a crowd suite into ``out_dir``."""
     doc = Document("socialnav: planners in recorded crowds")
     datasets = sorted({r["scenario"] for r in rows})
+    # runs whose people switch to HL are another experiment: a section of their own
+    sections = sorted(
+        {(r["scenario"], switch_distance(r), r.get("context") or "given") for r in rows},
+        key=lambda k: (k[0], -1.0 if k[1] is None else k[1], k[2] != "given"),
+    )
     seeds = sorted({int(r["seed"]) for r in rows})
+    reacting = sorted({d for _, d, _ in sections if d is not None})
+    people = "people replayed from the recordings (they do not react to the robot)"
+    if reacting:
+        people += (
+            "; in the sections that say so, each replayed person switches to navground's HL "
+            "toward their recorded destination once the robot is within the switch distance "
+            f"({', '.join(f'{d:g} m' for d in reacting)}; `--switch-distance`)"
+        )
+    if any(c == "detected" for _, _, c in sections):
+        people += (
+            '; in the sections marked "context detected" the planner sees noisy tracks '
+            "(the default perception noise) and the context estimator's structures, never "
+            "the recording itself (`--context detected`); contacts and distances are measured "
+            "on the true people"
+        )
     doc.add(
         Paragraph(
-            f"{len(rows)} runs over {len(datasets)} recordings ({', '.join(datasets)}), seeds "
-            f"{seeds[0] if seeds else '-'}–{seeds[-1] if seeds else '-'}; people replayed from the "
-            "recordings (they do not react to the robot), 0.1 s control period. Reproduce with "
-            "`socialnav compare --suite crowds --data FILE … --seeds A:B`. Seeds below 10,000 are "
-            "for tuning; report seeds 10,000 and up."
+            f"{len(rows)} runs over {_count(len(datasets), 'recording')} "
+            f"({', '.join(datasets)}), {_seed_span(seeds)}; {people}, 0.1 s control period. "
+            "Reproduce with `socialnav compare --suite crowds --data FILE … --seeds A:B` "
+            "(and `--switch-distance D` for the sections with reacting people). Seeds below "
+            "10,000 are for tuning; report seeds 10,000 and up."
         )
     )
-    for name in datasets:
-        sel = [r for r in rows if r["scenario"] == name]
-        doc.add(Heading(f"Recording {name}"))
+    for name, react, seen in sections:
+        sel = [
+            r
+            for r in rows
+            if r["scenario"] == name
+            and switch_distance(r) == react
+            and (r.get("context") or "given") == seen
+        ]
+        title, tag = f"Recording {name}", name
+        if react is not None:
+            title += f", people switching to HL within {react:g} m"
+            tag += f"_hl{react:g}"
+        if seen != "given":
+            title += f", context {seen}"
+            tag += f"_{seen}"
+        doc.add(Heading(title))
         flows = {r["seed"]: r["flow"] for r in sel if r.get("flow")}
         along = sum(1 for f in flows.values() if f == "along")
         across = sum(1 for f in flows.values() if f == "across")
         doc.add(
             Paragraph(
-                f"{len(flows)} episodes (each run with every robot): {along} along the main "
-                f"flow, {across} across it. A contact is the robot's footprint touching a "
-                "person: *active* when the footprint was closing on them (turning included) "
-                "faster than 0.05 m/s, *passive* otherwise (stopped, or moving away while they "
+                f"{_count(len(flows), 'episode')} (each run with every robot): {along} along "
+                f"the main flow, {across} across it. A contact is the robot's footprint touching a "
+                "person: active when the footprint was closing on them (turning included) "
+                "faster than 0.05 m/s, passive otherwise (stopped, or moving away while they "
                 "walk into it). Success % = episodes that reach the goal in time with no "
                 "active contact; active / passive / contact % = episodes with such a contact "
                 "(contact: either kind). Min gap and t<0.45 s / t<1.2 s use the body-to-body "
@@ -258,7 +312,7 @@ def build_crowd_report(rows: Sequence[dict[str, Any]], out_dir: Path) -> Path:
         doc.add(Table(HEADER, table, caption=f"{name}: means over episodes"))
         for line in targets(by_key):
             doc.add(Paragraph(line))
-        figure = _figure(sel, out_dir, name)
+        figure = _figure(sel, out_dir, tag)
         if figure:
             doc.add(Image(figure, f"{name} paths"))
     errors = [r for r in rows if r.get("error")]

@@ -17,7 +17,10 @@ cycle into such tracks. Each effect is a seeded option (all off when 0):
 The defaults (:data:`DEFAULT_PERCEPTION`: 0.05 m, 10°, 0.05 m/s, 3 % misses, 0.02 false
 positives per cycle, 0.2 % id switches per cycle) are an assumption for a good people tracker
 at a few metres (2D laser leg detection or RGB-D body detection), not a measurement of a
-particular sensor; every suite can be rerun with other values.
+particular sensor. The suites' ``--context detected`` runs use them; other values go through
+the Python API (``run_episode(..., context="detected", perception=PerceptionNoise(...))``,
+``run_crowd_episode(..., perception=...)``), and ``socialnav detect --noise none`` turns
+them all off.
 Positions in metres, world frame; yaw CCW from +x.
 """
 

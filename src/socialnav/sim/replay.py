@@ -35,7 +35,14 @@ from socialnav.sim.controller import GOAL_REACHED
 from socialnav.sim.engine import ControllerBehavior, build_world, pose_of
 from socialnav.sim.humans import SENSING_RANGE
 from socialnav.sim.recorder import EpisodeRecorder, StaticGeometry
-from socialnav.sim.runner import STOP_EPS, EpisodeResult, _controller, _robot_model
+from socialnav.sim.runner import (
+    CONTEXTS,
+    STOP_EPS,
+    DetectedContext,
+    EpisodeResult,
+    _controller,
+    _robot_model,
+)
 from socialnav.sim.scenario import PersonSpec, Scenario
 
 #: where absent people wait (m), spaced so nobody is ever within sensing range of the scene
@@ -154,6 +161,14 @@ def _switch_to_hl(agent: sim.Agent, destination: FloatArray, speed: float) -> No
     agent.state_estimations = [sim.state_estimations.BoundedStateEstimation(range=SENSING_RANGE)]
 
 
+def humans_label(switch_distance: float | None) -> str:
+    """How the people of a crowd run behave, as the ``humans`` column and meta say it:
+    ``replayed`` (they follow their tracks and never react), or ``replayed+HL@<d>m`` (each
+    switches to navground's HL toward their recorded destination once the robot is within
+    ``d`` m)."""
+    return "replayed" if switch_distance is None else f"replayed+HL@{switch_distance:g}m"
+
+
 def run_crowd_episode(
     recording: Recording,
     task: CrowdTask,
@@ -164,6 +179,8 @@ def run_crowd_episode(
     *,
     switch_distance: float | None = None,
     controller_params: dict[str, Any] | None = None,
+    context: str = "given",
+    perception: Any = None,
 ) -> EpisodeResult:
     """Drive ``controller`` (a registered controller name, a Controller or a factory, as in
     ``run_episode``; navground behaviours are the ``orca``, ``hl``, ``social_force``
@@ -171,8 +188,15 @@ def run_crowd_episode(
 
     The record has family ``crowd``; its people are everyone present at some sample, in the
     recording's order, NaN where absent (``people_present`` is the mask). ``switch_distance``:
-    see the module docstring (``None``: people never react).
+    see the module docstring (``None``: people never react). ``context``: ``given`` (the
+    controller sees the people present, exactly) or ``detected`` (noisy tracks from
+    :class:`~socialnav.sim.perception.PerceptionModel` with ``perception`` noise, default
+    :data:`~socialnav.sim.perception.DEFAULT_PERCEPTION`, and the context estimator's
+    structures, as :class:`~socialnav.sim.runner.DetectedContext`; the robot watches for
+    ``runner.WARMUP`` s first). Metrics always use the true people.
     """
+    if context not in CONTEXTS:
+        raise ConfigurationError(f"unknown context {context!r}; use given or detected")
     wall_start = _time.perf_counter()
     model = _robot_model(robot)
     dt = float(task.control_period)
@@ -187,6 +211,9 @@ def run_crowd_episode(
     social0 = _context(ids, pos[0], vel[0], head[0])
     scn = crowd_scenario(recording, task, social0.people)
     empty = scn.model_copy(update={"people": []})
+    detector = DetectedContext(scn, seed, perception) if context == "detected" else None
+    if detector is not None:
+        detector.warm_up(social0, dt)
 
     ctrl, planner_name = _controller(controller, controller_params)
     ctrl.reset(scn, model)
@@ -241,6 +268,15 @@ def run_crowd_episode(
             if isinstance(replayed, ReplayedHuman):
                 replayed.step_index = k
         social = _context(ids, now_pos, now_vel, now_yaw)
+        if detector is not None:
+            social = detector.observe(
+                t,
+                now_pos[present],
+                now_vel[present],
+                now_yaw[present],
+                ids[present],
+                np.full(int(present.sum()), HUMAN_RADIUS),
+            )
         ctrl_behavior.observe = lambda _dt, t=t, social=social: (t, social)
         started = _time.perf_counter()
         simw.world.update(dt)
@@ -272,12 +308,18 @@ def run_crowd_episode(
             "planner": planner_name,
             "robot": model.name,
             "seed": int(seed),
-            "humans": "replayed" if switch_distance is None else f"replayed+HL@{switch_distance}",
+            "humans": humans_label(switch_distance),
             "termination": reason,
             "engine": f"navground {core.get_build_info().version_string}",
             "recording": str(recording.source) if recording.source else recording.name,
             "t0": float(task.t0),
             "switched_people": [int(i) for i in ids[switched]],
+            "context": context,
+            **(
+                {}
+                if detector is None
+                else {"estimator_ms_median": float(np.median(detector.seconds) * 1e3)}
+            ),
         },
     )
     return EpisodeResult(record, diagnostics, _time.perf_counter() - wall_start, step_seconds)

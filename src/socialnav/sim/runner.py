@@ -117,8 +117,21 @@ class DetectedContext:
         self.radii = np.array([p.radius for p in scn.people], dtype=float)
         self.seconds: list[float] = []
 
-    def observe(self, t: float, pos: FloatArray, vel: FloatArray, yaw: FloatArray) -> SocialContext:
-        tracks = self.perception.observe(self.ids, pos, vel, yaw, self.radii)
+    def observe(
+        self,
+        t: float,
+        pos: FloatArray,
+        vel: FloatArray,
+        yaw: FloatArray,
+        ids: np.ndarray | None = None,
+        radii: FloatArray | None = None,
+    ) -> SocialContext:
+        """The context the robot perceives at ``t`` (s) of true people ``pos``, ``vel`` ``(K,
+        2)`` and ``yaw (K,)``: the scenario's people, or those of ``ids (K,)`` with ``radii
+        (K,)`` (a recorded crowd, whose people come and go)."""
+        who = self.ids if ids is None else np.asarray(ids, dtype=np.int64)
+        size = self.radii if radii is None else np.asarray(radii, dtype=float)
+        tracks = self.perception.observe(who, pos, vel, yaw, size)
         started = _time.perf_counter()  # the estimator runs on the robot; the sensor model not
         context = self.estimator.update(t, tracks).context
         self.seconds.append(_time.perf_counter() - started)

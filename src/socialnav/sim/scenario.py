@@ -16,6 +16,7 @@ Units: metres, seconds, radians; yaw counter-clockwise from +x.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Sequence
 from importlib import resources
@@ -61,6 +62,10 @@ from socialnav.social.structures import (
     structure_json_schemas,
 )
 from socialnav.world.grid import Costmap, GridGeometry
+
+#: the group family's conditions on joining the group: not required when no standing group of
+#: the scene passes the sanity limits (:meth:`Scenario.family_conditions`)
+JOIN_CONDITIONS = ("at_free_spot", "facing_centre", "outside_o_space")
 
 DISC_POLYGON_SIDES = 24
 
@@ -446,9 +451,33 @@ class Scenario(_Model):
 
     def family_conditions(self) -> tuple[ConditionSpec, ...]:
         """The family's and structures' conditions, before this scenario's overrides (a
-        ``mixed`` scene is judged as ``queue`` when it has a queue, else as ``group``)."""
+        ``mixed`` scene is judged as ``queue`` when it has a queue, else as ``group``). When
+        no standing group passes the sanity limits (:meth:`group_warnings`), there is no
+        join target: the conditions on joining one are not required, with the reason."""
         family = judged_family(self.family, bool(self.queues))
-        return FAMILIES.get(family).conditions + structure_conditions(self.structure_list())
+        specs = FAMILIES.get(family).conditions + structure_conditions(self.structure_list())
+        standing = [g for g in self.groups if g.mode != "walking"]
+        warnings = self.group_warnings()
+        if family == "group" and standing and len(warnings) == len(standing):
+            why = "; ".join(warnings)
+            specs = tuple(
+                dataclasses.replace(c, required=False, reason=why)
+                if c.name in JOIN_CONDITIONS
+                else c
+                for c in specs
+            )
+        return specs
+
+    def group_warnings(self) -> tuple[str, ...]:
+        """One line per standing group that is no join target: its fitted circle, spacing or
+        members fail :mod:`socialnav.social.plausibility` (``socialnav validate`` prints
+        them; the planner plans around such members as people)."""
+        from socialnav.social.plausibility import implausible_groups
+
+        return tuple(
+            f"groups.{k}: not a join target: {why}"
+            for k, why in implausible_groups(self.social_context())
+        )
 
     def success_spec(self, robot: str = "") -> tuple[ConditionSpec, ...]:
         """The conditions this scenario is judged on: :meth:`family_conditions` with its

@@ -42,7 +42,9 @@ the others' still keeps ``exp(−1/0.72) ≈ 0.25`` of the proximity affinity. A
 :class:`~socialnav.social.perception.fformations.FFormationParams` ``pair_max_distance``),
 ``support`` 1e-4, ``iterations`` 1000, ``tolerance`` 1e-9.
 
-Output: groups of at least two members; o-space centre the members' mean position (the
+Output: groups of at least two members, more than half of whom have the o-space centre in
+front of them (:func:`~socialnav.social.perception.base.faces_ospace`: proximity alone made
+two people standing back to back a set); o-space centre the members' mean position (the
 centre of a circle of evenly spread members, the midpoint of a pair), radius the mean member
 distance to it; score 0.6 at the minimum cohesion, rising linearly to 1 at cohesion 1 (the
 tracker's hysteresis confirms a candidate above 0.5).
@@ -65,6 +67,7 @@ from socialnav.social.perception.base import (
     MapKnowledge,
     ParamDetector,
     TrackFrame,
+    faces_ospace,
     unclaimed,
 )
 
@@ -206,7 +209,15 @@ def dominant_sets(
     for c in np.unique(comp):
         idx = np.flatnonzero(comp == c)
         if idx.size >= 2:
-            out += [(np.sort(idx[g]), s) for g, s in peel(a[np.ix_(idx, idx)], params)]
+            for g, s in peel(a[np.ix_(idx, idx)], params):
+                g = np.sort(idx[g])
+                # the o-space the members' votes point at (the mean position is beside a pair
+                # standing side by side, facing one way)
+                votes = positions[g] + params.stride * np.column_stack(
+                    [np.cos(yaws[g]), np.sin(yaws[g])]
+                )
+                if faces_ospace(positions[g], yaws[g], votes.mean(axis=0)):
+                    out.append((g, s))
     return sorted(out, key=lambda gs: int(gs[0][0]))
 
 

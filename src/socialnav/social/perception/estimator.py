@@ -70,7 +70,7 @@ from typing import Any, Literal
 
 import numpy as np
 
-from socialnav.core.errors import ConfigurationError
+from socialnav.core.errors import ConfigurationError, InvalidInputError
 from socialnav.core.geometry import FloatArray
 from socialnav.core.scene import Artwork, Group, Person, Queue, SocialContext
 from socialnav.social.perception import (  # noqa: F401
@@ -192,6 +192,32 @@ class EstimatorParams:
     group_mode: str = "join"
 
 
+#: the numeric estimator parameters and their admissible ranges: (low, high, low included)
+_RANGES: dict[str, tuple[float, float, bool]] = {
+    "coast_time": (0.0, math.inf, True),
+    "smoothing": (0.0, 1.0, False),
+    "standing_smoothing": (0.0, 1.0, False),
+    "gate": (0.0, math.inf, False),
+    "standing_gate": (0.0, math.inf, False),
+    "still_speed": (0.0, math.inf, True),
+    "position_jitter": (0.0, math.inf, True),
+    "motion_z": (0.0, math.inf, True),
+    "leave_distance": (0.0, math.inf, True),
+}
+
+
+def _check_ranges(params: EstimatorParams) -> None:
+    """Raise ConfigurationError naming the first parameter outside its range (NaN included)."""
+    for name, (low, high, closed) in _RANGES.items():
+        value = getattr(params, name)
+        inside = isinstance(value, int | float) and (value >= low if closed else value > low)
+        if not (inside and value <= high):
+            bracket = "[" if closed else "("
+            raise ConfigurationError(
+                f"estimator parameter {name} must be in {bracket}{low:g}, {high:g}], got {value!r}"
+            )
+
+
 @dataclass(frozen=True)
 class Structure:
     """One estimated structure: ``kind``, ``members`` (ids present in the context),
@@ -235,6 +261,7 @@ class ContextEstimator:
             )
         if self.params.velocity_min_samples < 2 or self.params.velocity_window < 0:
             raise ConfigurationError("velocity_min_samples must be >= 2, velocity_window >= 0")
+        _check_ranges(self.params)
         self.detectors: list[tuple[str, Detector]] = [
             (name, DETECTORS.get(name)(**self.params.detector_params.get(name, {})))
             for name in self.params.pipeline
@@ -379,7 +406,22 @@ class ContextEstimator:
         return out
 
     def update(self, time: float, people: Sequence[Person]) -> Estimate:
-        """The estimate at ``time`` (s) from the people tracked now (``Person`` objects)."""
+        """The estimate at ``time`` (s) from the people tracked now (``Person`` objects).
+
+        Structures are confirmed and dropped over time (the hysteresis of
+        :class:`~socialnav.social.perception.tracking.HysteresisParams`), so calls must advance
+        ``time``: calls at one repeated time confirm nothing; a time earlier than the last one
+        restarts the tracks. Raises :class:`~socialnav.core.errors.InvalidInputError` for a
+        time that is not a finite number, or ids repeated within the frame.
+        """
+        if (
+            isinstance(time, bool)
+            or not isinstance(time, int | float | np.number)
+            or not (math.isfinite(float(time)))
+        ):
+            raise InvalidInputError(
+                f"estimator time must be a finite number of seconds, got {time!r}"
+            )
         tracked = [_still(p, self.params.still_speed) for p in self._tracks(float(time), people)]
         frame = TrackFrame.from_people(tracked, float(time))
         candidates = self.detect(frame)

@@ -45,6 +45,12 @@ F-formations"); the o-space is Kendon's (Conducting Interaction, 1990).
    group scenarios, radius 1.5 m; inside Hall's 1.2–3.6 m social-consultative distance) apart,
    with nobody between them, form a pair (Kendon's vis-à-vis arrangement). A triple whose
    members are all left alone stays undetected. ``pair_max_distance = 0`` turns it off.
+6. **Facing the o-space** (:func:`~socialnav.social.perception.base.faces_ospace`): a group
+   is kept only when more than half of its members have its centre in front of them. The
+   anisotropic cost lets a centre lie a metre along the gaze *behind* a person as cheaply as
+   ahead of them, so two people standing back to back 0.3–0.7 m apart made a "group"
+   (confidence 0.6–0.7). No parameter: on Synth F1 at T = 2/3 rose 0.952 → 0.970 and at
+   T = 1 0.894 → 0.912 (only false groups removed); CoffeeBreak's single frames are unchanged.
 
 Parameters (metres, radians; defaults fitted on the Cristani et al. *Synth* data only, see
 ``benchmarks/bench_context.py --fit``): ``stride`` D, ``sigma`` σ, ``sigma_along``, ``mdl``,
@@ -102,6 +108,7 @@ from socialnav.social.perception.base import (
     MapKnowledge,
     ParamDetector,
     TrackFrame,
+    faces_ospace,
     unclaimed,
 )
 
@@ -305,9 +312,20 @@ def _gcff(
     out = []
     for u in np.unique(labels):
         g = np.flatnonzero(labels == u)
-        if g.size >= 2:
-            out.append((g, strides.get(int(u), params.stride)))
+        if g.size < 2:
+            continue
+        stride = strides.get(int(u), params.stride)
+        p = params if stride == params.stride else replace(params, stride=stride)
+        if faces_ospace(positions[g], yaws[g], _group_centre(positions[g], yaws[g], p)):
+            out.append((g, stride))
     return out
+
+
+def _group_centre(positions: FloatArray, yaws: FloatArray, p: FFormationParams) -> FloatArray:
+    """The o-space centre ``(2,)`` of one group: the compiled :func:`_centre` or the reference."""
+    if gcff_kernel.enabled():
+        return gcff_kernel.centre_and_costs(positions, yaws, kernel_params(p))[0]
+    return _centre(positions, yaws, p)
 
 
 def fitted_stride(
