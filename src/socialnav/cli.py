@@ -273,6 +273,7 @@ def _compare_crowds(
     once per social context."""
     from socialnav.core.errors import ConfigurationError
     from socialnav.crowds import load_recording
+    from socialnav.crowds.episodes import generate_episode
     from socialnav.experiments.crowd import (
         REPORT_SEEDS,
         check_stored_recordings,
@@ -287,8 +288,10 @@ def _compare_crowds(
         _fail("--suite crowds needs --data FILE (a recorded crowd; repeat for several)")
     try:
         files = unique_recordings([str(p) for p in data])
+        first = parse_seeds(seeds or REPORT_SEEDS).start
         for path in files:
-            load_recording(path)  # a bad file fails here, not as one error row per run
+            # a bad file, or one that yields no episode, fails here, not as a row per run
+            generate_episode(load_recording(path), first)
         stored = [r for r in ResultStore(out, notify=_warn).load() if r.get("suite") == "crowds"]
         check_stored_recordings(stored, files)
         specs = crowd_specs(

@@ -272,6 +272,9 @@ def test_runs_whose_people_switch_to_hl_are_labelled_and_reported_apart(tmp_path
     tables = [t for t in md_tables(text) if t[0][0] == "planner"]
     assert [[row[2] for row in t[1:]] for t in tables] == [["1"], ["1"]]
     assert "1 episode (" in text and "seed 0;" in text  # singular, one seed
+    # the commands that made these rows, one per switch distance
+    base = f"socialnav compare --suite crowds --data {hotel} --seeds 0:1 --planners straight_line"
+    assert f"`{base} --robots pioneer`, and `{base} --robots pioneer --switch-distance 1.5`" in text
 
 
 @pytest.mark.parametrize(
@@ -317,3 +320,17 @@ def test_run_crowd_warns_of_a_task_unlike_the_suites(tmp_path: Path) -> None:
     assert "the recording ends" in result.stderr and "nobody is in the scene" in result.stderr
     result = run_zara(*ZARA_TASK, "--planner", "straight_line", "--out", tmp_path / "c")
     assert json.loads(result.stdout)["warnings"] == [] and "warning" not in result.stderr
+
+
+def test_compare_crowds_fails_once_on_a_recording_without_episodes(tmp_path: Path) -> None:
+    # before: one error row per planner and seed, each after 400 draws
+    path = tmp_path / "sparse.txt"
+    spots = [(0, 0), (40, 0), (0, 40), (40, 40), (20, 20), (20, 0)]
+    path.write_text(
+        "".join(f"{f} {i} {x} {y}\n" for f in (0, 10) for i, (x, y) in enumerate(spots))
+    )
+    out = tmp_path / "r"
+    result = straight_line_crowds([path], out)
+    assert result.exit_code == 2
+    assert "no episode after 400 start times" in " ".join(result.output.split())
+    assert not (out / "results").exists()

@@ -53,5 +53,18 @@ def test_across_allowed_only_where_the_area_is_wide_enough() -> None:
 def test_an_empty_scene_gives_a_clear_error() -> None:
     t = np.arange(10.0)
     rec = Recording((Track(1, t, np.c_[t, t]), Track(2, t, np.c_[20 - t, t + 5])), 0.04)
-    with pytest.raises(ConfigurationError, match="no episode with 5 people"):
+    with pytest.raises(ConfigurationError, match="400 had fewer than 5 people present"):
         generate_episode(rec, 0)
+
+
+def test_the_error_says_which_rule_no_draw_met() -> None:
+    # newcomer trial: every failure blamed "5 people within 6 m", whatever the cause. Here six
+    # people stand 20 m apart in a 40 × 40 m area: always present, never 5 near one start.
+    t = np.arange(10.0)
+    spots = [(0.0, 0.0), (40.0, 0.0), (0.0, 40.0), (40.0, 40.0), (20.0, 20.0), (20.0, 0.0)]
+    rec = Recording(tuple(Track(i, t, np.tile(p, (10, 1))) for i, p in enumerate(spots)), 0.04)
+    with pytest.raises(ConfigurationError) as caught:
+        generate_episode(rec, 0)
+    message = str(caught.value)
+    assert "0 had fewer than 5 people present" in message
+    assert "fewer than 5 people within 6 m of it" in message and "40.0 × 40.0 m" in message

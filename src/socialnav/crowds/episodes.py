@@ -90,11 +90,14 @@ def generate_episode(
         raise ConfigurationError(
             f"{recording.name}: the annotated area {area} is too small for a {BORDER} m border"
         )
+    # why draws fail, for the error: a recording that never yields an episode says which rule
+    misses = {"few_present": 0, "goal_outside": 0, "crowded_start": 0, "few_near": 0}
     for _ in range(MAX_TIMES):
         t0 = float(rng.uniform(t_lo, t_hi))
         state = recording.state_at(t0, recording.active_ids(t0, t0))
         people = state.positions[0][state.present[0]]
         if len(people) < MIN_PEOPLE:
+            misses["few_present"] += 1
             continue
         for _ in range(PAIRS_PER_TIME):
             start = rng.uniform(lo, hi)
@@ -104,12 +107,15 @@ def generate_episode(
             length = rng.uniform(*DISTANCE)
             goal = start + length * np.array([math.cos(angle), math.sin(angle)])
             if not area.contains(goal, BORDER):
+                misses["goal_outside"] += 1
                 continue
             d = np.hypot(*(people - start).T)
             if d.min() < CLEARANCE:
+                misses["crowded_start"] += 1
                 continue
             near = int(np.count_nonzero(d <= NEAR))
             if near < MIN_PEOPLE:
+                misses["few_near"] += 1
                 continue
             yaw = float(math.atan2(goal[1] - start[1], goal[0] - start[0]))
             return CrowdEpisode(
@@ -121,7 +127,13 @@ def generate_episode(
                 near,
                 float(time_limit),
             )
+    pairs = max(MAX_TIMES - misses["few_present"], 0) * PAIRS_PER_TIME
     raise ConfigurationError(
-        f"{recording.name}: seed {seed}: no episode with {MIN_PEOPLE} people within {NEAR} m of "
-        f"the start after {MAX_TIMES} start times"
+        f"{recording.name}: seed {seed}: no episode after {MAX_TIMES} start times: "
+        f"{misses['few_present']} had fewer than {MIN_PEOPLE} people present; of their "
+        f"{pairs} start/goal draws, {misses['goal_outside']} put the goal ({DISTANCE[0]:g}–"
+        f"{DISTANCE[1]:g} m on) outside the area less a {BORDER:g} m border "
+        f"({area.xmax - area.xmin:.1f} × {area.ymax - area.ymin:.1f} m), "
+        f"{misses['crowded_start']} had someone within {CLEARANCE:g} m of the start and "
+        f"{misses['few_near']} fewer than {MIN_PEOPLE} people within {NEAR:g} m of it"
     )

@@ -122,6 +122,27 @@ def switch_distance(row: dict[str, Any]) -> float | None:
     return None if math.isnan(value) else value
 
 
+def reproduce(rows: Sequence[dict[str, Any]]) -> str:
+    """The ``socialnav compare`` command(s) that run ``rows`` again, as Markdown code: files,
+    seed range, planners (the straight-line reference runs anyway), robots, context, and one
+    command per switch distance."""
+    files = list(dict.fromkeys(str(r["data"]) for r in rows if r.get("data")))
+    seeds = sorted({int(r["seed"]) for r in rows})
+    planners = [p for p in _order({r["planner"] for r in rows}) if p != REFERENCE] or [REFERENCE]
+    robots = sorted({r["robot"] for r in rows})
+    parts = ["socialnav compare --suite crowds", *(f"--data {f}" for f in files)]
+    if seeds:
+        parts.append(f"--seeds {seeds[0]}:{seeds[-1] + 1}")
+    parts += [f"--planners {','.join(planners)}", f"--robots {','.join(robots)}"]
+    seen = {r.get("context") or "given" for r in rows}
+    if seen != {"given"}:
+        parts.append("--context " + ("both" if len(seen) > 1 else next(iter(seen))))
+    base = " ".join(parts)
+    reacts = sorted({switch_distance(r) for r in rows}, key=lambda d: -1.0 if d is None else d)
+    commands = [base if d is None else f"{base} --switch-distance {d:g}" for d in reacts]
+    return ", and ".join(f"`{c}`" for c in commands)
+
+
 def _count(n: int, noun: str) -> str:
     return f"{n} {noun}" if n == 1 else f"{n} {noun}s"
 
@@ -264,9 +285,8 @@ def build_crowd_report(rows: Sequence[dict[str, Any]], out_dir: Path) -> Path:
         Paragraph(
             f"{len(rows)} runs over {_count(len(datasets), 'recording')} "
             f"({', '.join(datasets)}), {_seed_span(seeds)}; {people}, 0.1 s control period. "
-            "Reproduce with `socialnav compare --suite crowds --data FILE … --seeds A:B` "
-            "(and `--switch-distance D` for the sections with reacting people). Seeds below "
-            "10,000 are for tuning; report seeds 10,000 and up."
+            f"Reproduce with {reproduce(rows)}. Seeds below 10,000 are for tuning; report "
+            "seeds 10,000 and up."
         )
     )
     for name, react, seen in sections:
