@@ -101,3 +101,19 @@ def test_validate_warns_about_a_group_that_is_no_join_target(tmp_path: Path, mov
     result = CliRunner().invoke(app, ["validate", str(path)])
     assert result.exit_code == 0, result.output
     assert ("not a join target" in result.output) is moved
+
+
+def test_the_topdown_figure_draws_no_circle_for_an_implausible_group(tmp_path: Path):
+    from matplotlib.figure import Figure
+
+    from socialnav.experiments.planners import run_planner_episode
+    from socialnav.experiments.suite import EpisodeSpec
+    from socialnav.viz._layers import draw_social
+
+    drawn = {}
+    for name in ("group_join", str(far_group_yaml(tmp_path))):
+        record = run_planner_episode(EpisodeSpec(name, "go_to_goal", "pr2")).record
+        drawn[name] = draw_social(Figure().add_subplot(), record)
+    near, far = drawn.values()
+    assert len(near["o_space"]) == len(near["group_circle"]) == 1
+    assert far["o_space"] == far["group_circle"] == []

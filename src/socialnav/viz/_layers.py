@@ -257,7 +257,13 @@ def draw_social(ax: Axes, record: EpisodeRecord) -> dict[str, list[Any]]:
     spaces = social_spaces()
     if spaces is None:
         return out
-    for g in ctx.groups:
+    try:  # a group the planner plans around as people has no circle or o-space to draw
+        from socialnav.social.plausibility import plausible_context
+
+        groups = plausible_context(ctx).groups
+    except ImportError:
+        groups = ctx.groups
+    for g in groups:
         pos = ctx.positions(g.member_ids)
         try:
             center, radius = spaces.fit_circle(pos)
