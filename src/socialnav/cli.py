@@ -125,7 +125,9 @@ def run(
     robot: Annotated[str, typer.Option(help=ROBOT_HELP)] = "pr2",
     seed: Annotated[
         int,
-        typer.Option(help="Scenario only: seed for its jitter (a generated scene: which one)."),
+        typer.Option(
+            min=0, help="Scenario only: seed for its jitter (a generated scene: which one)."
+        ),
     ] = 0,
     humans: Annotated[
         str, typer.Option(help="Scenario only: scripted (the paper) or reactive (navground HL).")
@@ -205,6 +207,7 @@ def run(
             fmt=fmt,
             video=video,
             progress=_progress,
+            warn=_warn,
             context=context,
         )
     except ConfigurationError as exc:
@@ -449,6 +452,8 @@ def compare(
     contexts = {"given": ("given",), "detected": ("detected",), "both": ("given", "detected")}
     if context not in contexts:
         _fail(f"unknown context {context!r}; use given, detected or both")
+    if jobs == 0:
+        _fail("--jobs must be a number of workers >= 1, or negative (-1: every core)")
     # an option another suite reads would be ignored silently: refuse it, as `run` does
     misplaced = {
         "--data": bool(data) and suite != "crowds",
@@ -566,7 +571,7 @@ def detect(
     ],
     out: Annotated[Path, typer.Option(help="Output folder.")] = Path("detect"),
     noise: Annotated[str, typer.Option(help="Perception noise: default or none.")] = "default",
-    seed: Annotated[int, typer.Option(help="Seed of the perception noise.")] = 0,
+    seed: Annotated[int, typer.Option(min=0, help="Seed of the perception noise.")] = 0,
     velocity_source: Annotated[
         str,
         typer.Option(

@@ -14,7 +14,12 @@ from typer.testing import CliRunner
 from shared import crowd_data, md_tables
 from socialnav.cli import app
 from socialnav.core.errors import ConfigurationError
-from socialnav.experiments.crowd import crowd_specs, parse_seeds, recording_fingerprint
+from socialnav.experiments.crowd import (
+    crowd_specs,
+    parse_seeds,
+    recording_fingerprint,
+    unique_recordings,
+)
 from socialnav.experiments.results import ResultStore, load_results
 from socialnav.experiments.storage import load_episode
 
@@ -334,3 +339,44 @@ def test_compare_crowds_fails_once_on_a_recording_without_episodes(tmp_path: Pat
     assert result.exit_code == 2
     assert "no episode after 400 start times" in " ".join(result.output.split())
     assert not (out / "results").exists()
+
+
+@pytest.mark.parametrize("value", ["nan", "-1", "inf"])
+def test_compare_crowds_refuses_a_switch_distance_run_would_refuse(
+    tmp_path: Path, value: str
+) -> None:
+    # second trial: NaN ran and was stored as "never react", pooled with plain replay
+    hotel = crowd_data("eth_hotel_obsmat.txt")
+    result = straight_line_crowds([hotel], tmp_path / "r", "--switch-distance", value)
+    assert result.exit_code == 2
+    assert "--switch-distance must be a finite distance >= 0 m" in " ".join(result.output.split())
+
+
+def test_one_recording_under_two_paths_or_cases_runs_once_or_is_refused(tmp_path: Path) -> None:
+    first, second = two_recordings_named_walk(tmp_path)
+    (tmp_path / "c").mkdir()
+    copy = tmp_path / "c" / "walk.txt"
+    copy.write_bytes(first.read_bytes())
+    assert unique_recordings([str(first), str(copy)]) == [str(first)]  # same bytes, same name
+    upper = tmp_path / "c" / "Walk.txt"
+    upper.write_bytes(second.read_bytes())
+    with pytest.raises(ConfigurationError, match="same name 'walk' \\(case aside\\)"):
+        unique_recordings([str(first), str(upper)])
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["compare", "--suite", "crowds", "--jobs", "0"], "--jobs must be a number of workers"),
+        (["run", "queue_line", "--seed", "-1"], "Invalid value for '--seed'"),
+        (["detect", "queue_line", "--seed", "-1"], "Invalid value for '--seed'"),
+    ],
+)
+def test_a_negative_seed_or_no_workers_is_a_clean_error(
+    tmp_path: Path, args: list[str], message: str
+) -> None:
+    # second trial: NumPy's "expected non-negative integer" and joblib's "n_jobs == 0"
+    # tracebacks
+    result = invoke(*args, "--out", tmp_path / "o")
+    assert result.exit_code == 2 and isinstance(result.exception, SystemExit)
+    assert message in " ".join(result.output.replace("│", " ").split())

@@ -201,3 +201,43 @@ def test_group_ids_must_be_integers(tmp_path: Path, bad: str) -> None:
         load_groups(path)
     path.write_text("1 2\n3 4.0\n")
     assert load_groups(path) == ((1, 2), (3, 4))
+
+
+def test_lone_carriage_returns_end_lines_too(tmp_path: Path) -> None:
+    # second newcomer trial: a file saved with classic Mac OS line ends read as one person with
+    # one sample, without a word
+    plain = load_obsmat(write_obsmat(tmp_path / "plain_obsmat.txt"))
+    for end in ("\r", "\r\n"):
+        path = tmp_path / "cr_obsmat.txt"
+        path.write_bytes((tmp_path / "plain_obsmat.txt").read_bytes().replace(b"\n", end.encode()))
+        assert as_dict(load_recording(path)) == as_dict(plain)
+
+
+def test_group_lists_take_commas_and_refuse_a_person_twice(tmp_path: Path) -> None:
+    path = tmp_path / "groups.txt"
+    path.write_text("1,2\n3, 4 5\n")
+    assert load_groups(path) == ((1, 2), (3, 4, 5))
+    path.write_text("1 2\n3 3\n")
+    with pytest.raises(RecordingFormatError, match=r"groups\.txt: line 2: person 3 listed twice"):
+        load_groups(path)
+
+
+@pytest.mark.parametrize(
+    ("line", "match"),
+    [
+        ('{"scene": "abc"}', "line 1: 'scene' must be an object"),
+        ('{"track": {"f": 0, "p": 99999999999999999999999, "x": 0, "y": 0}}', "too large"),
+    ],
+)
+def test_trajnet_records_that_would_be_misread(tmp_path: Path, line: str, match: str) -> None:
+    path = tmp_path / "odd.ndjson"
+    path.write_text(line + "\n" + '{"track": {"f": 0, "p": 1, "x": 0.0, "y": 0.0}}\n')
+    with pytest.raises(RecordingFormatError, match=match):
+        load_recording(path)
+
+
+def test_text_ids_beyond_exact_integers_are_refused(tmp_path: Path) -> None:
+    path = tmp_path / "huge.txt"
+    path.write_text("0 1 0.0 0.0\n10 1e20 0.4 0.0\n")
+    with pytest.raises(RecordingFormatError, match=r"huge\.txt: line 2: id is too large"):
+        load_recording(path)

@@ -117,3 +117,35 @@ def test_the_topdown_figure_draws_no_circle_for_an_implausible_group(tmp_path: P
     near, far = drawn.values()
     assert len(near["o_space"]) == len(near["group_circle"]) == 1
     assert far["o_space"] == far["group_circle"] == []
+
+
+def test_no_o_space_is_measured_for_an_implausible_group_and_run_says_why(tmp_path: Path):
+    # second trial: metrics.json still held 18 s "inside the o-space" of the 6 m circle, and
+    # `run` said nothing of the group or of the conditions it did not count
+    import json
+
+    result = CliRunner().invoke(
+        app,
+        [
+            "run",
+            str(far_group_yaml(tmp_path)),
+            "--planner",
+            "go_to_goal",
+            "--out",
+            str(tmp_path / "r"),
+        ],
+    )
+    assert result.exit_code == 0, result.output
+    assert "warning: " in result.stderr and "groups.0: not a join target" in result.stderr
+    metrics = json.loads((tmp_path / "r" / "metrics.json").read_text())
+    assert metrics["ospace_intrusion_time_center"] is None  # NaN: no o-space to be in
+    assert metrics["join_heading_error"] is None
+    spared = dict(item.split(": ", 1) for item in metrics["not_required"].split("; "))
+    assert set(spared) == set(JOIN_CONDITIONS)
+    assert all("not a join target" in why for why in spared.values())
+    intact = CliRunner().invoke(
+        app, ["run", "group_join", "--planner", "go_to_goal", "--out", str(tmp_path / "j")]
+    )
+    assert intact.exit_code == 0 and "warning" not in intact.stderr
+    joined = json.loads((tmp_path / "j" / "metrics.json").read_text())
+    assert joined["not_required"] == "" and joined["ospace_intrusion_time_center"] is not None

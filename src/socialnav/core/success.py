@@ -71,6 +71,15 @@ class Condition:
     reason: str = ""
 
 
+def not_required_text(conditions: Iterable[ConditionSpec | Condition]) -> str:
+    """The conditions of ``conditions`` that are not required, as ``"name: reason; …"`` (a
+    name alone where there is no reason; ``""`` if every condition is required): the
+    ``not_required`` of a suite row and of ``metrics.json``."""
+    return "; ".join(
+        f"{c.name}: {c.reason}" if c.reason else c.name for c in conditions if not c.required
+    )
+
+
 #: ``check(record, tolerance) -> passed``; the tolerance is never None when called.
 CheckFn = Callable[["EpisodeRecord", float], bool]
 

@@ -39,6 +39,8 @@ OBSMAT_FRAME_PERIOD = 0.04
 FOUR_COLUMN_FRAME_PERIOD = 0.04
 TRAJNET_FPS = 2.5
 FORMATS = ("obsmat", "four_column", "trajnet")
+#: ids and frame numbers beyond this are not exact as the floats they are read as
+_LARGEST_INTEGER = 2**53
 OBSMAT_COLUMNS = ("frame", "id", "x", "z", "y", "vx", "vz", "vy")
 
 
@@ -75,7 +77,8 @@ def _read_text(path: Path) -> str:
     if "\x00" in text:
         line = text[: text.index("\x00")].count("\n") + 1
         raise RecordingFormatError(f"{path}: line {line}: not a text file (a NUL byte)")
-    return text
+    # every line ending as one: CRLF (Windows) and a lone CR (classic Mac OS) read as LF
+    return text.replace("\r\n", "\n").replace("\r", "\n")
 
 
 def _read_table(path: Path, columns: Sequence[str], sep: str) -> pd.DataFrame:
@@ -153,6 +156,10 @@ def _tracks(df: pd.DataFrame, period: float, path: Path) -> tuple[Track, ...]:
         if frac.any():
             line = int(df["line"][frac].iloc[0])
             raise RecordingFormatError(f"{path}: line {line}: {col} must be an integer")
+        huge = df[col].abs() > _LARGEST_INTEGER
+        if huge.any():
+            line = int(df["line"][huge].iloc[0])
+            raise RecordingFormatError(f"{path}: line {line}: {col} is too large an integer")
     df = df.assign(
         frame=np.round(df["frame"]).astype(np.int64), id=np.round(df["id"]).astype(np.int64)
     )
@@ -178,15 +185,17 @@ def _tracks(df: pd.DataFrame, period: float, path: Path) -> tuple[Track, ...]:
 
 def load_groups(path: str | Path) -> tuple[tuple[int, ...], ...]:
     """Groups of ids that walk together from an OpenTraj ``groups.txt`` (one group per line,
-    ids separated by whitespace; blank lines skipped)."""
+    ids separated by whitespace or commas; blank lines skipped). Raises
+    :class:`RecordingFormatError` naming the line for an id that is not an integer or is
+    listed twice in one group."""
     p = Path(path)
     _require_file(p)
     groups = []
     for number, line in enumerate(_read_text(p).splitlines(), start=1):
-        fields = line.split()
+        fields = line.replace(",", " ").split()
         if not fields:
             continue
-        ids = []
+        ids: list[int] = []
         for field in fields:
             try:
                 value = float(field)
@@ -196,6 +205,8 @@ def load_groups(path: str | Path) -> tuple[tuple[int, ...], ...]:
                 raise RecordingFormatError(
                     f"{p}: line {number}: person ids must be integers, got {field!r}"
                 )
+            if int(value) in ids:
+                raise RecordingFormatError(f"{p}: line {number}: person {int(value)} listed twice")
             ids.append(int(value))
         groups.append(tuple(ids))
     return tuple(groups)
@@ -271,7 +282,9 @@ def load_trajnet(
             raise RecordingFormatError(f"{p}: line {number}: expected a 'scene' or 'track' record")
         if "scene" in obj:
             scene = obj["scene"]
-            if isinstance(scene, dict) and "fps" in scene:
+            if not isinstance(scene, dict):
+                raise RecordingFormatError(f"{p}: line {number}: 'scene' must be an object")
+            if "fps" in scene:
                 rate = _number(scene["fps"], p, number, "scene.fps")
                 if rate <= 0:
                     raise RecordingFormatError(
@@ -306,6 +319,8 @@ def load_trajnet(
 def _number(value: object, path: Path, line: int, field: str) -> float:
     if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
         raise RecordingFormatError(f"{path}: line {line}: {field} must be a finite number")
+    if field in ("track.f", "track.p") and abs(value) > _LARGEST_INTEGER:
+        raise RecordingFormatError(f"{path}: line {line}: {field} {value} is too large an integer")
     return float(value)
 
 

@@ -96,6 +96,7 @@ def crowd_specs(
     given twice runs once. Raises ConfigurationError when two different files share a
     recording name (:attr:`CrowdSpec.scenario`): runs, results and report sections are keyed
     on it."""
+    check_switch_distance(switch_distance)
     files = unique_recordings(data)
     names = list(dict.fromkeys([*planners[:1], REFERENCE, *planners[1:]]))
     return [
@@ -115,20 +116,30 @@ def recording_name(path: str | Path) -> str:
 
 
 def unique_recordings(data: list[str]) -> list[str]:
-    """``data`` without repeats of one file (same resolved path). Raises ConfigurationError
-    when two different files have one :func:`recording_name`."""
-    seen: dict[str, Path] = {}
+    """``data`` without repeats of one recording (the same resolved path, or the same bytes
+    under the same name). Raises ConfigurationError when two different files have one
+    :func:`recording_name`, letter case aside (a case-insensitive file system would put their
+    runs in one folder)."""
+    seen: dict[str, tuple[str, Path]] = {}  # by case-folded name: run folders may share it
     out: list[str] = []
     for d in data:
         name, where = recording_name(d), Path(d).resolve()
-        if name in seen:
-            if seen[name] != where:
+        key = name.casefold()
+        if key in seen:
+            first, place = seen[key]
+            same = place == where or (
+                first == name
+                and where.is_file()
+                and place.is_file()
+                and recording_fingerprint(str(place)) == recording_fingerprint(str(where))
+            )
+            if not same:
                 raise ConfigurationError(
-                    f"{d}: another recording given, {seen[name]}, has the same name {name!r}; "
-                    "runs and report sections are named after the file, so rename one"
+                    f"{d}: another recording given, {place}, has the same name {first!r} (case "
+                    "aside); runs and report sections are named after the file, so rename one"
                 )
             continue
-        seen[name] = where
+        seen[key] = (name, where)
         out.append(str(d))
     return out
 
@@ -274,9 +285,17 @@ def check_crowd_task(
             f"--start and --goal are {math.dist(start, goal):.2f} m apart: the robot would "
             f"arrive at once (the goal tolerance is {CrowdTask.goal_tolerance:g} m)"
         )
-    if switch_distance is not None and not switch_distance >= 0:
+    check_switch_distance(switch_distance)
+
+
+def check_switch_distance(switch_distance: float | None) -> None:
+    """Raise ConfigurationError unless ``switch_distance`` is None or a finite distance >= 0
+    m (a NaN would read as "never react" in stored rows, an infinite one switches everyone)."""
+    if switch_distance is not None and not (
+        math.isfinite(switch_distance) and switch_distance >= 0
+    ):
         raise ConfigurationError(
-            f"--switch-distance must be a distance >= 0 m, got {switch_distance:g}"
+            f"--switch-distance must be a finite distance >= 0 m, got {switch_distance:g}"
         )
 
 

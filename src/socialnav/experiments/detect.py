@@ -51,27 +51,23 @@ def _record_of(source: str) -> EpisodeRecord:
     from socialnav.experiments.suite import EpisodeSpec
     from socialnav.sim.scenario import load_scenario
 
-    if path.is_file() and path.suffix.lower() not in SCENARIO_SUFFIXES:
-        raise ConfigurationError(
-            f"{path}: unsupported file type {path.suffix or '(none)'!r}; give a crowd recording "
-            f"({', '.join(RECORDING_SUFFIXES)}), a scenario ({', '.join(SCENARIO_SUFFIXES)}), "
-            "an episode folder or a built-in scenario name"
-        )
     load_scenario(source)  # names the file and field on bad input
     return run_planner_episode(EpisodeSpec(source, "traditional", "pr2")).record
 
 
-RECORDING_SUFFIXES = (".txt", ".csv", ".ndjson", ".json", ".jsonl")
+#: a file with one of these suffixes is a scenario; any other file is read as a recording,
+#: its format told by its content (``socialnav.crowds.load_recording``), as the crowd suite does
 SCENARIO_SUFFIXES = (".yaml", ".yml")
 
 
 def _recording_of(source: str) -> Recording | None:
     """The crowd recording at ``source``, or ``None`` when it is no recording (a folder, a
-    scenario name or YAML). A malformed recording raises naming the file and line."""
+    scenario name or YAML). Any other file is read as a recording, whatever its suffix; a
+    malformed one raises naming the file and line."""
     from socialnav.crowds import RecordingFormatError, load_recording
 
     path = Path(source)
-    if not (path.is_file() and path.suffix.lower() in RECORDING_SUFFIXES):
+    if not path.is_file() or path.suffix.lower() in SCENARIO_SUFFIXES:
         return None
     try:
         return load_recording(path)

@@ -16,6 +16,7 @@ from matplotlib.figure import Figure
 from socialnav.core.episode import EpisodeRecord
 from socialnav.core.errors import ConfigurationError
 from socialnav.core.robot import ROBOT_MODELS
+from socialnav.core.success import not_required_text
 from socialnav.experiments.planners import CONTROLLERS, run_planner_episode
 from socialnav.experiments.storage import EPISODE_FILE, TRAJECTORY_FILE, save_episode
 from socialnav.experiments.suite import EpisodeSpec
@@ -83,12 +84,15 @@ def run_single(
     video: str = "none",
     context: str = "given",
     progress: Callable[[str], None] | None = None,
+    warn: Callable[[str], None] | None = None,
 ) -> dict[str, Any]:
     """Run, measure and draw one episode into ``out``; returns a summary dict. ``context``:
     ``given`` or ``detected`` (see :func:`socialnav.sim.runner.run_episode`).
 
     ``progress`` receives one line as each stage starts and ends (the episode, the files, the
-    figures, the video), so a person sees what the command is doing.
+    figures, the video), so a person sees what the command is doing; ``warn`` each of the
+    scenario's :meth:`~socialnav.sim.scenario.Scenario.group_warnings` (a group the planner
+    plans around as people).
     """
     from socialnav.experiments.suite import GENERATED_PREFIX
     from socialnav.metrics import measure_episode
@@ -110,7 +114,8 @@ def run_single(
     if scenario.startswith(GENERATED_PREFIX):
         GENERATORS.get(scenario.removeprefix(GENERATED_PREFIX))
     else:
-        load_scenario(scenario)
+        for line in load_scenario(scenario).group_warnings():
+            (warn or (lambda line: None))(line)
     say = progress or (lambda line: None)
     say(f"running {spec.scenario} with {planner} on {robot} (seed {seed}) …")
     result = run_planner_episode(spec, record_diagnostics=True)
@@ -188,16 +193,18 @@ def write_run(
     """Write every file of ``socialnav run`` (a scenario or a recorded crowd) into ``out``.
 
     The step table (``fmt``) and ``episode.json``; ``metrics.json`` (``metrics``, NaN as null,
-    and ``success_conditions``); ``topdown.png`` (drawn by ``topdown``); where the episode was
-    run with ``record_diagnostics`` and the planner evaluates candidates, ``diagnostics.parquet``
-    and, where a cycle weighed two or more objectives, ``decision.png``; ``episode.gif`` or
-    ``.mp4`` unless ``video`` is ``none``. The files of :data:`RUN_FILES` already in ``out`` (an
-    earlier run's) are removed first; other files are kept. ``say`` receives a progress line per
-    stage.
+    ``success_conditions``, and ``not_required``: the conditions measured but not counted, as
+    ``"name: reason; …"``, the suite row's column); ``topdown.png`` (drawn by ``topdown``);
+    where the episode was run with ``record_diagnostics`` and the planner evaluates candidates,
+    ``diagnostics.parquet`` and, where a cycle weighed two or more objectives,
+    ``decision.png``; ``episode.gif`` or ``.mp4`` unless ``video`` is ``none``. The files of
+    :data:`RUN_FILES` already in ``out`` (an earlier run's) are removed first; other files are
+    kept. ``say`` receives a progress line per stage.
     """
     import pyarrow as pa
     import pyarrow.parquet as pq
 
+    from socialnav.metrics.success import success_spec
     from socialnav.viz.topdown import save_figure
 
     record = result.record
@@ -216,8 +223,13 @@ def write_run(
     if columns["step"]:
         pq.write_table(pa.table(columns), out / "diagnostics.parquet")
     values = {k: (None if np.isnan(v) else float(v)) for k, v in metrics.items()}
+    # conditions measured but not counted toward success, with why (a reader of this file
+    # would otherwise take a false `facing_centre` for a failure)
+    spared = not_required_text(success_spec(record))
     (out / "metrics.json").write_text(
-        json.dumps({**values, "success_conditions": dict(success)}, indent=1)
+        json.dumps(
+            {**values, "success_conditions": dict(success), "not_required": spared}, indent=1
+        )
     )
     cycle = decision_cycle(result.diagnostics, record)
     say("drawing topdown.png …" if cycle is None else "drawing topdown.png and decision.png …")

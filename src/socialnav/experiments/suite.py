@@ -20,6 +20,7 @@ from typing import Any
 
 import numpy as np
 
+from socialnav.core.success import not_required_text
 from socialnav.experiments.crowd import CrowdSpec
 
 TABLE1_SCENARIO = "hallway_passing"
@@ -147,9 +148,7 @@ def run_spec(
         row.update({condition_column(k): bool(v) for k, v in conditions.items()})
         judged = measured.conditions
         row["failed_required"] = ",".join(c.name for c in judged if c.required and not c.passed)
-        row["not_required"] = "; ".join(
-            f"{c.name}: {c.reason}" if c.reason else c.name for c in judged if not c.required
-        )
+        row["not_required"] = not_required_text(judged)
         row["family"] = record.family
         row["steps"] = record.num_steps
         row["planner_ms_median"] = float(record.meta.get("planner_ms_median", np.nan))

@@ -30,6 +30,7 @@ from socialnav.metrics.series import (
     footprint_world,
     person_index,
 )
+from socialnav.social.plausibility import plausible_context
 from socialnav.social.spaces import activity_space_polygon, o_space, queue_band_polygons
 
 NAN = float("nan")
@@ -51,10 +52,12 @@ def queue_bands(record: EpisodeRecord) -> list[FloatArray]:
 
 
 def ospaces(record: EpisodeRecord) -> list[tuple[FloatArray, float]]:
-    """``(center (2,), o-space radius R - 0.3)`` of every group at the first sample."""
+    """``(center (2,), o-space radius R - 0.3)`` of every group at the first sample, but those
+    that fail the sanity limits (:func:`~socialnav.social.plausibility.plausible_context`: the
+    planner plans around their members as people, and there is no o-space to keep out of)."""
     start = record.people_positions[0]
     discs = []
-    for group in record.context.groups:
+    for group in plausible_context(record.context).groups:
         members = start[person_index(record, group.member_ids)]
         if members.shape[0] > 0:
             discs.append(o_space(members))

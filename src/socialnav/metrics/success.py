@@ -141,7 +141,10 @@ def _facing_viewer(record: EpisodeRecord, tolerance: float) -> bool:
 
 
 def _outside_o_space(record: EpisodeRecord, tolerance: float) -> bool:
-    return _never(ospace_depth_center(record), "group", record)
+    depth = ospace_depth_center(record)
+    if depth is None and record.context.groups:
+        return True  # every group fails the sanity limits: no o-space to stay out of
+    return _never(depth, "group", record)
 
 
 _BUILTIN = {

@@ -224,9 +224,12 @@ def targets(by_key: dict[tuple[str, str], dict[str, float]], planner: str = "pac
     return lines
 
 
-def _figure(rows: Sequence[dict[str, Any]], out_dir: Path, name: str) -> str | None:
+def _figure(
+    rows: Sequence[dict[str, Any]], out_dir: Path, name: str, title: str = ""
+) -> str | None:
     """A few episodes of paccet (else the first planner) on the first robot, with the
-    straight-line reference of the same episodes."""
+    straight-line reference of the same episodes: ``figures/crowd_<name>.png``, headed
+    ``title`` (default ``name``)."""
     from socialnav.experiments.storage import load_episode
     from socialnav.viz.crowd import plot_crowd_episodes
     from socialnav.viz.topdown import save_figure
@@ -251,7 +254,8 @@ def _figure(rows: Sequence[dict[str, Any]], out_dir: Path, name: str) -> str | N
         return None
     path = out_dir / "figures" / f"crowd_{name}.png"
     save_figure(
-        plot_crowd_episodes(records, title=f"{name}: {main} and {REFERENCE}", columns=2), path
+        plot_crowd_episodes(records, title=f"{title or name}: {main} and {REFERENCE}", columns=2),
+        path,
     )
     return str(path.relative_to(out_dir))
 
@@ -332,7 +336,7 @@ def build_crowd_report(rows: Sequence[dict[str, Any]], out_dir: Path) -> Path:
         doc.add(Table(HEADER, table, caption=f"{name}: means over episodes"))
         for line in targets(by_key):
             doc.add(Paragraph(line))
-        figure = _figure(sel, out_dir, tag)
+        figure = _figure(sel, out_dir, tag, title.removeprefix("Recording "))
         if figure:
             doc.add(Image(figure, f"{name} paths"))
     errors = [r for r in rows if r.get("error")]

@@ -9,6 +9,7 @@ every kind alike. Positions in metres, world frame; yaw CCW from +x (REP 103).
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field, fields, replace
 from typing import Any, ClassVar, Generic, Literal, TypeVar
@@ -114,9 +115,14 @@ P = TypeVar("P")
 
 class ParamDetector(Generic[P]):
     """Base of the detectors: holds a frozen parameter dataclass, built from ``params`` (or the
-    defaults) with keyword ``overrides`` (the estimator's ``detector_params``)."""
+    defaults) with keyword ``overrides`` (the estimator's ``detector_params``). Every numeric
+    parameter (lengths, speeds, angles, costs, counts) must be a finite number >= 0, and those
+    in ``positive`` > 0; raises :class:`~socialnav.core.errors.ConfigurationError` naming the
+    parameter, or an unknown one with the known ones."""
 
     params_type: ClassVar[type]
+    #: parameters that must be > 0 (scales and counts a zero would divide by or empty)
+    positive: ClassVar[frozenset[str]] = frozenset()
 
     def __init__(self, params: P | None = None, **overrides: Any) -> None:
         base: Any = params if params is not None else self.params_type()
@@ -128,6 +134,18 @@ class ParamDetector(Generic[P]):
                 f"known: {', '.join(sorted(known))}"
             )
         self.params: P = replace(base, **overrides)
+        for f in fields(self.params):
+            value = getattr(self.params, f.name)
+            if isinstance(value, bool) or not isinstance(value, int | float | np.number):
+                continue
+            low = "> 0" if f.name in self.positive else ">= 0"
+            if not (
+                math.isfinite(value) and (value > 0 if f.name in self.positive else value >= 0)
+            ):
+                raise ConfigurationError(
+                    f"{type(self).__name__}: parameter {f.name} must be a finite number {low}, "
+                    f"got {value!r}"
+                )
 
 
 def unclaimed(frame: TrackFrame, claimed: frozenset[int], mask: np.ndarray) -> np.ndarray:

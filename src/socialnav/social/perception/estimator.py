@@ -89,7 +89,11 @@ from socialnav.social.perception.base import (
     StructureKind,
     TrackFrame,
 )
-from socialnav.social.perception.tracking import HysteresisParams, StructureTracker
+from socialnav.social.perception.tracking import (
+    HysteresisParams,
+    StructureTracker,
+    check_hysteresis,
+)
 
 DEFAULT_PIPELINE: tuple[str, ...] = (
     "desk_queue",
@@ -203,19 +207,35 @@ _RANGES: dict[str, tuple[float, float, bool]] = {
     "position_jitter": (0.0, math.inf, True),
     "motion_z": (0.0, math.inf, True),
     "leave_distance": (0.0, math.inf, True),
+    "velocity_window": (0.0, math.inf, True),
 }
 
 
 def _check_ranges(params: EstimatorParams) -> None:
-    """Raise ConfigurationError naming the first parameter outside its range (NaN included)."""
+    """Raise ConfigurationError naming the first parameter outside its range (NaN included),
+    a pipeline that is not a sequence of detector names, ``detector_params`` for a detector
+    the pipeline does not run, or hysteresis settings out of range."""
+    if isinstance(params.pipeline, str) or not all(isinstance(n, str) for n in params.pipeline):
+        raise ConfigurationError(
+            f"estimator pipeline must be a sequence of detector names, got {params.pipeline!r}"
+        )
+    stray = sorted(set(params.detector_params) - set(params.pipeline))
+    if stray:
+        raise ConfigurationError(
+            f"detector_params for {', '.join(stray)}, which the pipeline "
+            f"({', '.join(params.pipeline)}) does not run"
+        )
+    count = params.velocity_min_samples
+    if isinstance(count, bool) or not isinstance(count, int | np.integer) or count < 2:
+        raise ConfigurationError(f"velocity_min_samples must be an integer >= 2, got {count!r}")
+    check_hysteresis(params.hysteresis)
     for name, (low, high, closed) in _RANGES.items():
         value = getattr(params, name)
-        inside = isinstance(value, int | float) and (value >= low if closed else value > low)
+        number = isinstance(value, int | float) and not isinstance(value, bool)
+        inside = number and math.isfinite(value) and (value >= low if closed else value > low)
         if not (inside and value <= high):
-            bracket = "[" if closed else "("
-            raise ConfigurationError(
-                f"estimator parameter {name} must be in {bracket}{low:g}, {high:g}], got {value!r}"
-            )
+            span = f"{'[' if closed else '('}{low:g}, {high:g}{']' if math.isfinite(high) else ')'}"
+            raise ConfigurationError(f"estimator parameter {name} must be in {span}, got {value!r}")
 
 
 @dataclass(frozen=True)
@@ -259,8 +279,6 @@ class ContextEstimator:
             raise ConfigurationError(
                 f"velocity_source must be measured or positions: {self.params.velocity_source}"
             )
-        if self.params.velocity_min_samples < 2 or self.params.velocity_window < 0:
-            raise ConfigurationError("velocity_min_samples must be >= 2, velocity_window >= 0")
         _check_ranges(self.params)
         self.detectors: list[tuple[str, Detector]] = [
             (name, DETECTORS.get(name)(**self.params.detector_params.get(name, {})))

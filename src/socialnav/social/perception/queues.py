@@ -115,6 +115,7 @@ class QueueDetector(ParamDetector[QueueParams]):
     """Registered as ``queue``."""
 
     params_type = QueueParams
+    positive = frozenset({"max_spacing", "spacing"})
 
     def __call__(
         self, frame: TrackFrame, knowledge: MapKnowledge, claimed: frozenset[int]

@@ -12,11 +12,13 @@ seen with score 1 appears after 0.35 s and survives 0.7 s without evidence.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
+from socialnav.core.errors import ConfigurationError
 from socialnav.social.perception.base import Candidate, StructureKind
 
 
@@ -32,6 +34,29 @@ class HysteresisParams:
     off: float = 0.25
     match_jaccard: float = 0.5
     forget: float = 0.05
+
+
+def check_hysteresis(params: object) -> None:
+    """Raise :class:`~socialnav.core.errors.ConfigurationError` unless ``params`` is a
+    :class:`HysteresisParams` with finite values, ``time_constant >= 0`` (0: no smoothing, as
+    :func:`~socialnav.social.perception.estimator.estimate_once` uses), ``nominal_period > 0``,
+    ``0 <= off <= on <= 1``, ``forget`` in [0, 1] and ``match_jaccard`` in (0, 1] (a NaN time
+    constant confirmed nothing, ever)."""
+    if not isinstance(params, HysteresisParams):
+        raise ConfigurationError(f"hysteresis must be HysteresisParams, got {params!r}")
+    p = params
+    values = (p.time_constant, p.nominal_period, p.on, p.off, p.match_jaccard, p.forget)
+    if not all(isinstance(v, int | float) and math.isfinite(v) for v in values):
+        raise ConfigurationError(f"hysteresis values must be finite numbers, got {p}")
+    if not (p.time_constant >= 0 and p.nominal_period > 0):
+        raise ConfigurationError(
+            f"hysteresis needs time_constant >= 0 and nominal_period > 0 (s): {p}"
+        )
+    if not (0.0 <= p.off <= p.on <= 1.0 and 0.0 <= p.forget <= 1.0 and 0 < p.match_jaccard <= 1):
+        raise ConfigurationError(
+            f"hysteresis needs 0 <= off <= on <= 1, forget in [0, 1] and match_jaccard in "
+            f"(0, 1]: {p}"
+        )
 
 
 @dataclass
@@ -59,6 +84,7 @@ class StructureTracker:
 
     def __init__(self, params: HysteresisParams | None = None) -> None:
         self.params = params or HysteresisParams()
+        check_hysteresis(self.params)
         self.reset()
 
     def reset(self) -> None:
