@@ -58,7 +58,7 @@ def _split(value: str) -> list[str]:
 
 #: the options of each ``run`` mode (parameter names), refused in the other one
 CROWD_ONLY = ("t0", "start", "goal", "switch_distance")
-SCENARIO_ONLY = ("seed", "humans", "context")
+SCENARIO_ONLY = ("humans",)
 XY_OPTIONS = ("--start", "--goal")
 
 
@@ -126,7 +126,9 @@ def run(
     seed: Annotated[
         int,
         typer.Option(
-            min=0, help="Scenario only: seed for its jitter (a generated scene: which one)."
+            min=0,
+            help="Seed for a scenario's jitter (a generated scene: which one); with --crowd "
+            "and --context detected, for the perception noise.",
         ),
     ] = 0,
     humans: Annotated[
@@ -169,7 +171,8 @@ def run(
     context: Annotated[
         str,
         typer.Option(
-            help="Scenario only: given (the scenario's structures) or detected (noisy tracks)."
+            help="given (the scenario's structures; with --crowd the people, exactly) or "
+            "detected (noisy tracks and the context estimator)."
         ),
     ] = "given",
 ) -> None:
@@ -188,7 +191,12 @@ def run(
         misplaced = _given(ctx, SCENARIO_ONLY)
         if misplaced:
             _fail(f"{_applies(misplaced)} to a scenario, not with --crowd")
-        _run_crowd(crowd, t0, start, goal, planner, robot, out, switch_distance, fmt, video)
+        if context != "detected" and _given(ctx, ("seed",)):
+            # a crowd task is given, not drawn: the only random choice is perception's
+            _fail("--seed with --crowd only applies to --context detected (the perception noise)")
+        _run_crowd(
+            crowd, t0, start, goal, planner, robot, out, switch_distance, fmt, video, context, seed
+        )
         return
     misplaced = _given(ctx, CROWD_ONLY)
     if misplaced:
@@ -231,6 +239,8 @@ def _run_crowd(
     switch_distance: float | None,
     fmt: str,
     video: str,
+    context: str = "given",
+    seed: int = 0,
 ) -> None:
     from socialnav.core.errors import ConfigurationError
     from socialnav.experiments.crowd import run_crowd_single
@@ -252,6 +262,8 @@ def _run_crowd(
             video=video,
             progress=_progress,
             warn=_warn,
+            context=context,
+            seed=seed,
         )
     except ConfigurationError as exc:
         _fail(str(exc))

@@ -392,12 +392,18 @@ def run_crowd_single(
     video: str = "none",
     progress: Callable[[str], None] | None = None,
     warn: Callable[[str], None] | None = None,
+    context: str = "given",
+    seed: int = 0,
 ) -> dict[str, Any]:
     """``socialnav run --crowd``: one task in a recording, written to ``out`` with the files of
     a scenario run (:func:`socialnav.experiments.run.write_run`); ``metrics.json`` holds the
     crowd metrics (:data:`CROWD_METRICS`) and ``topdown.png`` draws the crowd's tracks. The robot
     starts facing the goal; ``t0`` and ``time_limit`` are seconds, ``start``/``goal`` and
-    ``switch_distance`` metres. A crowd run has no seed (``episode.json`` stores none).
+    ``switch_distance`` metres. ``context``: ``given`` or ``detected`` (the planner sees noisy
+    tracks and the context estimator's output, see
+    :func:`socialnav.sim.replay.run_crowd_episode`; ``seed`` seeds the perception noise and is
+    stored in ``episode.json``). With the context given a crowd run has no seed: the task is
+    given, not drawn, and ``episode.json`` stores none.
     ``progress`` receives a line per stage, ``warn`` each of :func:`crowd_task_warnings`
     (also in the summary's ``warnings``). Raises :class:`ConfigurationError` for an unknown
     planner, robot or format, an ``out`` that is a file, ``mp4`` without the ``video`` extra,
@@ -408,7 +414,11 @@ def run_crowd_single(
     from socialnav.experiments.run import check_outputs, check_robot, write_run
     from socialnav.metrics import compute_metrics, evaluate_success
     from socialnav.sim.replay import CrowdTask, run_crowd_episode
+    from socialnav.sim.runner import CONTEXTS
     from socialnav.viz.crowd import plot_crowd_episodes
+
+    if context not in CONTEXTS:
+        raise ConfigurationError(f"unknown context {context!r}; use given or detected")
 
     # the evaluation records feed diagnostics.parquet and decision.png, as in a scenario run
     controller = crowd_controller(planner, record=True)
@@ -429,12 +439,15 @@ def run_crowd_single(
         task,
         controller,
         robot,
+        seed=seed,
         record_diagnostics=True,
         switch_distance=switch_distance,
+        context=context,
     )
     record = result.record
     record.meta["planner"] = planner
-    record.meta.pop("seed", None)  # the task is given, not drawn: no seed to report
+    if context == "given":
+        record.meta.pop("seed", None)  # the task is given, not drawn: no seed to report
     timing = planner_timing(planner, result.step_seconds)
     success = evaluate_success(record)
     metrics = compute_metrics(record, CROWD_METRICS)
@@ -456,6 +469,7 @@ def run_crowd_single(
         "planner": planner,
         "robot": robot,
         "switch_distance": switch_distance,
+        "context": context,
         "steps": record.num_steps,
         "people": int(record.people_ids.shape[0]),
         "success": success["success"],
