@@ -97,6 +97,7 @@ def run_single(
     from socialnav.experiments.suite import GENERATED_PREFIX
     from socialnav.metrics import measure_episode
     from socialnav.sim.generate import GENERATORS
+    from socialnav.sim.runner import check_context
     from socialnav.sim.scenario import load_scenario
     from socialnav.viz.topdown import plot_episode
 
@@ -105,8 +106,7 @@ def run_single(
     check_outputs(fmt, video, out)  # before the episode runs, not after
     if humans not in ("scripted", "reactive"):
         raise ConfigurationError(f"unknown human model {humans!r}; use scripted or reactive")
-    if context not in ("given", "detected"):
-        raise ConfigurationError(f"unknown context {context!r}; use given or detected")
+    check_context(context)
     spec = EpisodeSpec(
         scenario=scenario, planner=planner, robot=robot, seed=seed, humans=humans, context=context
     )

@@ -36,12 +36,12 @@ from socialnav.sim.engine import ControllerBehavior, build_world, pose_of
 from socialnav.sim.humans import SENSING_RANGE
 from socialnav.sim.recorder import EpisodeRecorder, StaticGeometry
 from socialnav.sim.runner import (
-    CONTEXTS,
     STOP_EPS,
     DetectedContext,
     EpisodeResult,
     _controller,
     _robot_model,
+    check_context,
 )
 from socialnav.sim.scenario import PersonSpec, Scenario
 
@@ -195,8 +195,7 @@ def run_crowd_episode(
     structures, as :class:`~socialnav.sim.runner.DetectedContext`; the robot watches for
     ``runner.WARMUP`` s first). Metrics always use the true people.
     """
-    if context not in CONTEXTS:
-        raise ConfigurationError(f"unknown context {context!r}; use given or detected")
+    check_context(context)
     wall_start = _time.perf_counter()
     model = _robot_model(robot)
     dt = float(task.control_period)

@@ -80,6 +80,14 @@ def _controller(
 
 
 CONTEXTS = ("given", "detected")
+
+
+def check_context(context: str) -> None:
+    """Raise :class:`ConfigurationError` unless ``context`` is one of :data:`CONTEXTS`."""
+    if context not in CONTEXTS:
+        raise ConfigurationError(f"unknown context {context!r}; use given or detected")
+
+
 #: Detected context: the robot watches the scene this long (s) before it starts to move, so the
 #: estimator's hysteresis has settled (a robot is switched on before it is sent somewhere).
 WARMUP = 1.0
@@ -196,8 +204,7 @@ def run_episode(
     target may be wrong: that is what is measured), ``meta["target_source"]`` =
     ``"true context"``.
     """
-    if context not in CONTEXTS:
-        raise ConfigurationError(f"unknown context {context!r}; use given or detected")
+    check_context(context)
     wall_start = _time.perf_counter()
     scn = load_scenario(scenario) if isinstance(scenario, str) else scenario
     scn = scn.randomize(seed, vary_group_sizes=vary_group_sizes)

@@ -113,6 +113,30 @@ DETECTORS: Registry[Callable[..., Detector]] = Registry("structure detector")
 P = TypeVar("P")
 
 
+def check_number(
+    what: str,
+    value: object,
+    low: float = 0.0,
+    high: float = math.inf,
+    *,
+    low_open: bool = False,
+    high_open: bool = False,
+) -> None:
+    """Raise :class:`~socialnav.core.errors.ConfigurationError` unless ``value`` is a finite
+    number (not a bool) between ``low`` and ``high``, each bound included unless ``*_open``;
+    the message names ``what`` (e.g. ``"FFormationDetector: parameter mdl"``) and the range."""
+    number = isinstance(value, int | float | np.number) and not isinstance(value, bool)
+    v = float(value) if number else math.nan  # type: ignore[arg-type]
+    above = v > low if low_open else v >= low
+    below = v < high if high_open else v <= high
+    if not (math.isfinite(v) and above and below):
+        if math.isinf(high):
+            span = f"{'>' if low_open else '>='} {low:g}"
+        else:
+            span = f"in {'(' if low_open else '['}{low:g}, {high:g}{')' if high_open else ']'}"
+        raise ConfigurationError(f"{what} must be a finite number {span}, got {value!r}")
+
+
 class ParamDetector(Generic[P]):
     """Base of the detectors: holds a frozen parameter dataclass, built from ``params`` (or the
     defaults) with keyword ``overrides`` (the estimator's ``detector_params``). Every numeric
@@ -136,15 +160,11 @@ class ParamDetector(Generic[P]):
         self.params: P = replace(base, **overrides)
         for f in fields(self.params):
             value = getattr(self.params, f.name)
-            if isinstance(value, bool) or not isinstance(value, int | float | np.number):
-                continue
-            low = "> 0" if f.name in self.positive else ">= 0"
-            if not (
-                math.isfinite(value) and (value > 0 if f.name in self.positive else value >= 0)
-            ):
-                raise ConfigurationError(
-                    f"{type(self).__name__}: parameter {f.name} must be a finite number {low}, "
-                    f"got {value!r}"
+            if isinstance(value, int | float | np.number) and not isinstance(value, bool):
+                check_number(
+                    f"{type(self).__name__}: parameter {f.name}",
+                    value,
+                    low_open=f.name in self.positive,
                 )
 
 

@@ -88,6 +88,7 @@ from socialnav.social.perception.base import (
     MapKnowledge,
     StructureKind,
     TrackFrame,
+    check_number,
 )
 from socialnav.social.perception.tracking import (
     HysteresisParams,
@@ -196,18 +197,18 @@ class EstimatorParams:
     group_mode: str = "join"
 
 
-#: the numeric estimator parameters and their admissible ranges: (low, high, low included)
+#: the numeric estimator parameters and their admissible ranges: (low, high, low excluded)
 _RANGES: dict[str, tuple[float, float, bool]] = {
-    "coast_time": (0.0, math.inf, True),
-    "smoothing": (0.0, 1.0, False),
-    "standing_smoothing": (0.0, 1.0, False),
-    "gate": (0.0, math.inf, False),
-    "standing_gate": (0.0, math.inf, False),
-    "still_speed": (0.0, math.inf, True),
-    "position_jitter": (0.0, math.inf, True),
-    "motion_z": (0.0, math.inf, True),
-    "leave_distance": (0.0, math.inf, True),
-    "velocity_window": (0.0, math.inf, True),
+    "coast_time": (0.0, math.inf, False),
+    "smoothing": (0.0, 1.0, True),
+    "standing_smoothing": (0.0, 1.0, True),
+    "gate": (0.0, math.inf, True),
+    "standing_gate": (0.0, math.inf, True),
+    "still_speed": (0.0, math.inf, False),
+    "position_jitter": (0.0, math.inf, False),
+    "motion_z": (0.0, math.inf, False),
+    "leave_distance": (0.0, math.inf, False),
+    "velocity_window": (0.0, math.inf, False),
 }
 
 
@@ -229,13 +230,10 @@ def _check_ranges(params: EstimatorParams) -> None:
     if isinstance(count, bool) or not isinstance(count, int | np.integer) or count < 2:
         raise ConfigurationError(f"velocity_min_samples must be an integer >= 2, got {count!r}")
     check_hysteresis(params.hysteresis)
-    for name, (low, high, closed) in _RANGES.items():
-        value = getattr(params, name)
-        number = isinstance(value, int | float) and not isinstance(value, bool)
-        inside = number and math.isfinite(value) and (value >= low if closed else value > low)
-        if not (inside and value <= high):
-            span = f"{'[' if closed else '('}{low:g}, {high:g}{']' if math.isfinite(high) else ')'}"
-            raise ConfigurationError(f"estimator parameter {name} must be in {span}, got {value!r}")
+    for name, (low, high, low_open) in _RANGES.items():
+        check_number(
+            f"estimator parameter {name}", getattr(params, name), low, high, low_open=low_open
+        )
 
 
 @dataclass(frozen=True)

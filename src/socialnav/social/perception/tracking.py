@@ -12,14 +12,13 @@ seen with score 1 appears after 0.35 s and survives 0.7 s without evidence.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
 from socialnav.core.errors import ConfigurationError
-from socialnav.social.perception.base import Candidate, StructureKind
+from socialnav.social.perception.base import Candidate, StructureKind, check_number
 
 
 @dataclass(frozen=True)
@@ -45,18 +44,13 @@ def check_hysteresis(params: object) -> None:
     if not isinstance(params, HysteresisParams):
         raise ConfigurationError(f"hysteresis must be HysteresisParams, got {params!r}")
     p = params
-    values = (p.time_constant, p.nominal_period, p.on, p.off, p.match_jaccard, p.forget)
-    if not all(isinstance(v, int | float) and math.isfinite(v) for v in values):
-        raise ConfigurationError(f"hysteresis values must be finite numbers, got {p}")
-    if not (p.time_constant >= 0 and p.nominal_period > 0):
-        raise ConfigurationError(
-            f"hysteresis needs time_constant >= 0 and nominal_period > 0 (s): {p}"
-        )
-    if not (0.0 <= p.off <= p.on <= 1.0 and 0.0 <= p.forget <= 1.0 and 0 < p.match_jaccard <= 1):
-        raise ConfigurationError(
-            f"hysteresis needs 0 <= off <= on <= 1, forget in [0, 1] and match_jaccard in "
-            f"(0, 1]: {p}"
-        )
+    check_number("hysteresis time_constant (s)", p.time_constant)
+    check_number("hysteresis nominal_period (s)", p.nominal_period, low_open=True)
+    for name in ("on", "off", "forget"):
+        check_number(f"hysteresis {name}", getattr(p, name), 0.0, 1.0)
+    check_number("hysteresis match_jaccard", p.match_jaccard, 0.0, 1.0, low_open=True)
+    if p.off > p.on:
+        raise ConfigurationError(f"hysteresis needs off <= on: {p}")
 
 
 @dataclass
