@@ -17,6 +17,8 @@ app = typer.Typer(
 )
 
 ROBOT_HELP = "Robot model: pr2 (holonomic) or pioneer (differential drive)."
+# socialnav.sim.engine.MAX_SEED, spelled out for the same reason; a test keeps them equal
+MAX_SEED = 2**32 - 1
 # Spelled out rather than imported so that ``--help`` does not load the simulator; a test keeps it
 # equal to the generator registry.
 GENERATED_FAMILIES = (
@@ -127,8 +129,9 @@ def run(
         int,
         typer.Option(
             min=0,
-            help="Seed for a scenario's jitter (a generated scene: which one); with --crowd "
-            "and --context detected, for the perception noise.",
+            max=MAX_SEED,
+            help="Seed for a scenario's jitter (a generated scene: which one); with --crowd, "
+            "of the perception noise, and only with --context detected.",
         ),
     ] = 0,
     humans: Annotated[
@@ -467,21 +470,16 @@ def compare(
     if jobs == 0:
         _fail("--jobs must be a number of workers >= 1, or negative (-1: every core)")
     # an option another suite reads would be ignored silently: refuse it, as `run` does
-    misplaced = {
-        "--data": bool(data) and suite != "crowds",
-        "--switch-distance": switch_distance is not None and suite != "crowds",
-        "--families": bool(families) and suite != "generated",
-        "--scenarios": bool(scenarios) and suite in ("crowds", "generated"),
-    }
-    for option, wrong in misplaced.items():
-        if wrong:
-            owner = {"--data": "crowds", "--switch-distance": "crowds", "--families": "generated"}
-            where = (
-                f"--suite {owner[option]}"
-                if option in owner
-                else "--suite paper, reactive or randomized"
-            )
-            _fail(f"{option} applies only with {where}, not --suite {suite}")
+    misplaced = (  # (option, set on the command line, the suites that read it)
+        ("--data", bool(data), ("crowds",)),
+        ("--switch-distance", switch_distance is not None, ("crowds",)),
+        ("--families", bool(families), ("generated",)),
+        ("--scenarios", bool(scenarios), ("paper", "reactive", "randomized")),
+    )
+    for option, given, readers in misplaced:
+        if given and suite not in readers:
+            where = ", ".join(readers[:-1]) + (" or " if len(readers) > 1 else "") + readers[-1]
+            _fail(f"{option} applies only with --suite {where}, not --suite {suite}")
     try:
         check_backend(backend, address)
         planner_names = _split(planners) or compared_planners()
@@ -583,7 +581,9 @@ def detect(
     ],
     out: Annotated[Path, typer.Option(help="Output folder.")] = Path("detect"),
     noise: Annotated[str, typer.Option(help="Perception noise: default or none.")] = "default",
-    seed: Annotated[int, typer.Option(min=0, help="Seed of the perception noise.")] = 0,
+    seed: Annotated[
+        int, typer.Option(min=0, max=MAX_SEED, help="Seed of the perception noise.")
+    ] = 0,
     velocity_source: Annotated[
         str,
         typer.Option(

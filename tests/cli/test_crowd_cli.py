@@ -235,9 +235,48 @@ def test_run_crowd_with_the_context_detected_is_seeded_and_says_so(tmp_path: Pat
         assert record.meta["estimator_ms_median"] > 0
         runs[name] = record
     assert np.array_equal(runs["a"].robot_poses, runs["b"].robot_poses)  # same seed, same run
+    shown = run_zara(*task.split(), "--context", "detected", "--seed", "5", "--out", tmp_path / "d")
+    assert json.loads(shown.stdout)["seed"] == 5 and "context detected (seed 5)" in shown.stderr
     given = run_zara(*task.split(), "--out", tmp_path / "g")
     assert given.exit_code == 0 and json.loads(given.stdout)["context"] == "given"
     assert "seed" not in load_episode(tmp_path / "g").meta  # a given task draws nothing
+    assert "seed" not in json.loads(given.stdout)
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["run", "queue_line", "--seed", "4294967296"],
+        ["run", "--crowd", "ZARA", *ZARA_TASK, "--context", "detected", "--seed", "99999999999"],
+        ["detect", "queue_line", "--seed", "4294967296"],
+        [
+            "compare",
+            "--suite",
+            "generated",
+            "--families",
+            "queue",
+            "--seeds",
+            "4294967295:4294967297",
+        ],
+    ],
+)
+def test_a_seed_beyond_32_bits_is_refused_cleanly(tmp_path: Path, args: list[str]) -> None:
+    # newcomer trial: navground's world seed is 32-bit; 2**32 raised a TypeError traceback
+    args = [str(crowd_data("ucy_zara01_obsmat.txt")) if a == "ZARA" else a for a in args]
+    result = invoke(*args, "--out", tmp_path / "o")
+    assert result.exit_code == 2, result.output
+    assert "4294967295" in " ".join(result.output.split())
+    assert not (tmp_path / "o").exists()
+
+
+def test_the_cli_seed_limit_is_the_simulator_s() -> None:
+    from socialnav import cli
+    from socialnav.sim.engine import MAX_SEED
+    from socialnav.sim.runner import run_episode
+
+    assert cli.MAX_SEED == MAX_SEED
+    with pytest.raises(ConfigurationError, match="seed"):
+        run_episode("queue_line", "go_to_goal", "pr2", seed=MAX_SEED + 1)
 
 
 # --- newcomer trial: runs are keyed on the recording's name, so two files with one name ----

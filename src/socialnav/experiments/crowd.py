@@ -77,8 +77,12 @@ def parse_seeds(text: str) -> range:
             a, b = 0, int(text)
     except ValueError as exc:
         raise ConfigurationError(f"--seeds must be N or A:B, got {text!r}") from exc
+    from socialnav.sim.engine import MAX_SEED
+
     if b <= a or a < 0:
         raise ConfigurationError(f"--seeds {text!r}: need 0 <= A < B")
+    if b - 1 > MAX_SEED:
+        raise ConfigurationError(f"--seeds {text!r}: seeds go up to {MAX_SEED}")
     return range(a, b)
 
 
@@ -414,12 +418,10 @@ def run_crowd_single(
     from socialnav.experiments.run import check_outputs, check_robot, write_run
     from socialnav.metrics import compute_metrics, evaluate_success
     from socialnav.sim.replay import CrowdTask, run_crowd_episode
-    from socialnav.sim.runner import CONTEXTS
+    from socialnav.sim.runner import check_context
     from socialnav.viz.crowd import plot_crowd_episodes
 
-    if context not in CONTEXTS:
-        raise ConfigurationError(f"unknown context {context!r}; use given or detected")
-
+    check_context(context)
     # the evaluation records feed diagnostics.parquet and decision.png, as in a scenario run
     controller = crowd_controller(planner, record=True)
     check_robot(robot)
@@ -431,7 +433,8 @@ def run_crowd_single(
     for line in warnings:
         (warn or (lambda line: None))(line)
     say = progress or (lambda line: None)
-    say(f"running {recording.name} from t0 = {t0:g} s with {planner} on {robot} …")
+    seen = "" if context == "given" else f", context {context} (seed {seed})"
+    say(f"running {recording.name} from t0 = {t0:g} s with {planner} on {robot}{seen} …")
     yaw = math.atan2(goal[1] - start[1], goal[0] - start[0])
     task = CrowdTask(float(t0), (*start, yaw), (*goal, yaw), time_limit)
     result = run_crowd_episode(
@@ -470,6 +473,7 @@ def run_crowd_single(
         "robot": robot,
         "switch_distance": switch_distance,
         "context": context,
+        **({"seed": seed} if context == "detected" else {}),
         "steps": record.num_steps,
         "people": int(record.people_ids.shape[0]),
         "success": success["success"],

@@ -22,6 +22,7 @@ from typing import SupportsFloat
 import numpy as np
 from navground import core, sim
 
+from socialnav.core.errors import ConfigurationError
 from socialnav.core.geometry import FloatArray
 from socialnav.core.robot import RobotModel
 from socialnav.core.scene import SocialContext
@@ -29,6 +30,9 @@ from socialnav.planner.local_planner import PlannerResult
 from socialnav.sim.controller import Controller, clamp_to_robot
 from socialnav.sim.humans import make_person_agent
 from socialnav.sim.scenario import Scenario
+
+#: the largest episode seed: navground's ``World.seed`` is an unsigned 32-bit integer
+MAX_SEED = 2**32 - 1
 
 
 def wheel_axis(robot: RobotModel) -> float:
@@ -156,6 +160,8 @@ def build_world(
     """
     from socialnav.sim.humans import SENSING_RANGE
 
+    if not 0 <= int(seed) <= MAX_SEED:
+        raise ConfigurationError(f"seed must be an integer in [0, {MAX_SEED}], got {seed!r}")
     world = sim.World()
     world.seed = int(seed)
     world.ignore_collisions = True
