@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from socialnav.metrics import compute_metrics, evaluate_success
-from socialnav.metrics.crowd import contact_events
+from socialnav.metrics.crowd import braking_steps, contact_events
 
 # SQUARE footprint (0.2 m half side) and person radius 0.25: contact below 0.45 m centre-to-centre
 # along an axis.
@@ -73,6 +73,63 @@ def test_a_person_appearing_on_the_robot_is_not_approached_by_the_step_before(
     moving = seg((0.0, 0.0), (2.0, 0.0), 20)
     r = make_record(moving, people=person, people_velocities=0.0 * person, family="crowd")
     assert [e[3] for e in contact_events(r)] == [True]
+
+
+def _appearing_ahead(after: list[float]) -> tuple[np.ndarray, np.ndarray]:
+    """A robot (SQUARE, 0.2 m half side) driving +x at 0.5 m/s for 10 samples, then at the x
+    positions ``after``; a standing person who appears at sample 10, 0.01 m ahead of it."""
+    x = np.concatenate([np.arange(11) * 0.05, after])
+    robot = np.column_stack([x, np.zeros_like(x)])
+    person = np.full((x.size, 1, 2), np.nan)
+    person[0] = [9.0, 0.0]  # far away at first, then gone
+    person[10:] = [0.5 + 0.2 + 0.25 + 0.01, 0.0]
+    return robot, person
+
+
+def test_bug_braking_at_the_limit_after_someone_appears_is_not_active(make_record) -> None:
+    # A PR2 (acc_lim_x 2.5 m/s^2) at 0.5 m/s cannot be at rest sooner than 0.2 s (2 samples)
+    # after a person appears 0.01 m ahead: braking at its limit (0.25 m/s, then 0) it touches
+    # them at 0.25 m/s. That was judged active (recorded crowds: every active contact of
+    # paccet on development seeds 0-89 and reporting seeds 10,000-10,049 was someone appearing
+    # in the recording within the robot's braking reach).
+    robot, person = _appearing_ahead([0.525] * 10)
+    zero = 0.0 * person
+    pr2 = {"robot": "pr2"}
+    r = make_record(robot, people=person, people_velocities=zero, family="crowd", meta=pr2)
+    assert braking_steps(r, 10) == 2
+    assert [e[3] for e in contact_events(r)] == [False]
+    assert evaluate_success(r)["no_active_collision"]
+    # Braking at half the limit it could have stopped by sample 12 and still closes on them
+    # after that (0.125 m/s): active. Driving on at 0.5 m/s: active.
+    half = [0.5375, 0.5625, 0.575] + [0.575] * 7
+    r = make_record(
+        *_appearing_ahead(half)[:1], people=person, people_velocities=zero, family="crowd", meta=pr2
+    )
+    assert [e[3] for e in contact_events(r)] == [True]
+    on = list(0.5 + 0.05 * np.arange(1, 11))
+    r = make_record(
+        *_appearing_ahead(on)[:1], people=person, people_velocities=zero, family="crowd", meta=pr2
+    )
+    assert [e[3] for e in contact_events(r)] == [True]
+    # Without a known robot model nothing tells the braking time: only the step into the
+    # appearance is unjudged, as before.
+    r = make_record(robot, people=person, people_velocities=zero, family="crowd")
+    assert braking_steps(r, 10) == 0
+    assert [e[3] for e in contact_events(r)] == [True]
+
+
+def test_braking_steps_follow_the_twist_over_the_step_into_the_sample(make_record) -> None:
+    # Turning on the spot at 1 rad/s, a PR2 (3.2 rad/s^2) needs ceil(0.3125 / 0.1) = 4 samples;
+    # a Pioneer (3.0 rad/s^2) ceil(0.333 / 0.1) = 4; sideways at 0.3 m/s a PR2 (2.5 m/s^2) needs
+    # 2; the first sample has no step into it; a robot at rest needs none.
+    yaw = np.arange(6) * 0.1
+    spin = make_record(np.zeros((6, 2)), yaw=yaw, meta={"robot": "pr2"})
+    assert [braking_steps(spin, k) for k in (0, 1, 5)] == [0, 4, 4]
+    spin = make_record(np.zeros((6, 2)), yaw=yaw, meta={"robot": "pioneer"})
+    assert braking_steps(spin, 3) == 4
+    side = np.column_stack([np.zeros(6), np.arange(6) * 0.03])  # +y at 0.3 m/s, yaw 0
+    assert braking_steps(make_record(side, meta={"robot": "pr2"}), 2) == 2
+    assert braking_steps(make_record(np.zeros((6, 2)), meta={"robot": "pr2"}), 3) == 0
 
 
 def test_time_within_counts_samples_under_the_body_gap(make_record) -> None:

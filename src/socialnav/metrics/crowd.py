@@ -11,9 +11,19 @@ footprint, not the robot's centre, is what approaches: a robot turning on the sp
 corners into a person beside it although its centre does not move, and a robot sliding its
 flank past a person does not close on them although its centre's velocity may point their way
 (recorded crowds, dev seeds 0–89: 46 of paccet's 206 contact events judged passive on the
-centre's velocity are active on the footprint's, most of them turning at 0.5–1 rad/s). The
-step into a person's first sample is not judged: a person who appears in the recording already
-touching the robot was not there to be approached (the step out of that sample still is).
+centre's velocity are active on the footprint's, most of them turning at 0.5–1 rad/s).
+
+People appear in a recording mid-episode, sometimes beside or inside the robot's footprint
+(ETH/UCY annotate people from where the camera first sees them). A robot cannot be at rest
+sooner than its braking time after it first sees someone, so the steps it takes within that
+time are not judged against them (*passive safety* with respect to what is seen: Macek et al.
+2009, Bouraine et al. 2012): the step into a person's first sample, and the steps out of the
+next ``n`` samples, ``n = ceil(max_axis |v| / acc_lim / dt)`` with ``v`` the robot's body twist
+over the step into the appearance (from the poses; axes ``x``, ``y``, ``theta``) and the
+acceleration limits of the robot model named by ``meta["robot"]`` (:func:`braking_steps`). With
+no known robot model, or for someone present from the episode's first sample, ``n = 0``: only
+the step into the appearance is unjudged. Steps after that window are judged as any other, so a
+robot that keeps driving into someone it has had time to stop for is active.
 Success on a crowd episode requires no active contact; passive contacts are reported beside it
 (see ``metrics.success``, family ``crowd``).
 
@@ -24,11 +34,14 @@ them (SocNavBench counts time inside personal space the same way).
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numpy.typing import NDArray
 
 from socialnav.core.episode import EpisodeRecord
-from socialnav.core.geometry import signed_distance_to_polygon, world_to_body_frames
+from socialnav.core.geometry import signed_distance_to_polygon, world_to_body_frames, wrap_angle
+from socialnav.core.robot import ROBOT_MODELS
 from socialnav.core.success import CONDITIONS, ConditionCheck
 from socialnav.metrics.base import MetricFn, metric
 from socialnav.metrics.series import convex_footprint, footprint_gaps
@@ -63,12 +76,41 @@ def contact_events(record: EpisodeRecord) -> list[tuple[int, int, int, bool]]:
         ]
         # the step into a sample counts only if the person was there before it
         into_k = np.where(was_present[:, k], (sd[0] - sd[1]) / record.dt, -np.inf)
-        approach = np.maximum(into_k, (sd[1] - sd[2]) / record.dt)
+        out_k = (sd[1] - sd[2]) / record.dt
+        # nor the steps the robot takes braking after someone appears (module docstring)
+        for a in np.flatnonzero(present[:, k] & ~was_present[:, k]):
+            n = braking_steps(record, int(a))
+            into_k[a : a + n + 1] = -np.inf
+            out_k[a : a + n] = -np.inf
+        approach = np.maximum(into_k, out_k)
         for first, last in _runs(contact[:, k]):
             active = bool(np.nanmax(approach[first : last + 1]) > APPROACH_SPEED)
             events.append((int(k), first, last, active))
     events.sort(key=lambda e: e[1])
     return events
+
+
+def braking_steps(record: EpisodeRecord, sample: int) -> int:
+    """The number of samples ``n`` after ``sample`` within which the robot cannot be at rest:
+    ``ceil(max_axis |v| / acc_lim / dt)``, with ``v`` its body twist ``(vx, vy, wz)`` (m/s,
+    rad/s) over the step into ``sample`` (from ``record.robot_poses``) and ``acc_lim`` the
+    ``acc_lim_x, acc_lim_y, acc_lim_theta`` of the robot model named by ``meta["robot"]``
+    (``socialnav.core.robot.ROBOT_MODELS``); an axis with a zero limit does not count. 0 at the
+    first sample or when the model is unknown."""
+    model = ROBOT_MODELS.get(str(record.meta.get("robot", "")))
+    if model is None or sample <= 0 or sample >= record.num_steps:
+        return 0
+    (x0, y0, yaw0), (x1, y1, yaw1) = record.robot_poses[sample - 1], record.robot_poses[sample]
+    c, s = math.cos(yaw0), math.sin(yaw0)
+    dx, dy = (x1 - x0) / record.dt, (y1 - y0) / record.dt
+    twist = (c * dx + s * dy, -s * dx + c * dy, float(wrap_angle(yaw1 - yaw0)) / record.dt)
+    limits = (model.acc_lim_x, model.acc_lim_y, model.acc_lim_theta)
+    seconds = max(
+        (abs(v) / lim for v, lim in zip(twist, limits, strict=True) if lim > 0), default=0.0
+    )
+    if not math.isfinite(seconds):
+        return 0
+    return math.ceil(seconds / record.dt - 1e-9)
 
 
 def _runs(mask: NDArray[np.bool_]) -> list[tuple[int, int]]:
@@ -81,7 +123,8 @@ def _runs(mask: NDArray[np.bool_]) -> list[tuple[int, int]]:
 @metric("collisions_active", unit="1", direction="min", reference=FRANCIS)
 def collisions_active(record: EpisodeRecord) -> float:
     """Number of active contact events: footprint contact with a person while the robot moves
-    toward them (its footprint closing on the person's centre at > 0.05 m/s)."""
+    toward them (its footprint closing on the person's centre at > 0.05 m/s), not counting the
+    steps it takes braking after the person appears (:func:`braking_steps`)."""
     return float(sum(1 for *_, active in contact_events(record) if active))
 
 
