@@ -130,6 +130,10 @@ def test_braking_steps_follow_the_twist_over_the_step_into_the_sample(make_recor
     side = np.column_stack([np.zeros(6), np.arange(6) * 0.03])  # +y at 0.3 m/s, yaw 0
     assert braking_steps(make_record(side, meta={"robot": "pr2"}), 2) == 2
     assert braking_steps(make_record(np.zeros((6, 2)), meta={"robot": "pr2"}), 3) == 0
+    # A jump of 5 m in one sample (a relocalization) counts as the PR2's top speed, 0.55 m/s:
+    # ceil(0.22 / 0.1) = 3, not 20.
+    jump = np.vstack([np.zeros((3, 2)), np.full((3, 2), [5.0, 0.0])])
+    assert braking_steps(make_record(jump, meta={"robot": "pr2"}), 3) == 3
 
 
 def test_time_within_counts_samples_under_the_body_gap(make_record) -> None:

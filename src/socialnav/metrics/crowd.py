@@ -95,8 +95,10 @@ def braking_steps(record: EpisodeRecord, sample: int) -> int:
     ``ceil(max_axis |v| / acc_lim / dt)``, with ``v`` its body twist ``(vx, vy, wz)`` (m/s,
     rad/s) over the step into ``sample`` (from ``record.robot_poses``) and ``acc_lim`` the
     ``acc_lim_x, acc_lim_y, acc_lim_theta`` of the robot model named by ``meta["robot"]``
-    (``socialnav.core.robot.ROBOT_MODELS``); an axis with a zero limit does not count. 0 at the
-    first sample or when the model is unknown."""
+    (``socialnav.core.robot.ROBOT_MODELS``); an axis with a zero limit, or a non-finite twist,
+    does not count, and none counts faster than the model's ``max_vel_*`` (a jump in the poses,
+    e.g. a relocalization, is not speed to brake from). 0 at the first sample or when the model
+    is unknown."""
     model = ROBOT_MODELS.get(str(record.meta.get("robot", "")))
     if model is None or sample <= 0 or sample >= record.num_steps:
         return 0
@@ -105,11 +107,16 @@ def braking_steps(record: EpisodeRecord, sample: int) -> int:
     dx, dy = (x1 - x0) / record.dt, (y1 - y0) / record.dt
     twist = (c * dx + s * dy, -s * dx + c * dy, float(wrap_angle(yaw1 - yaw0)) / record.dt)
     limits = (model.acc_lim_x, model.acc_lim_y, model.acc_lim_theta)
+    # no axis faster than the model allows: a jump in the poses is not speed to brake from
+    top = (max(model.max_vel_x, abs(model.min_vel_x)), model.max_vel_y, model.max_vel_theta)
     seconds = max(
-        (abs(v) / lim for v, lim in zip(twist, limits, strict=True) if lim > 0), default=0.0
+        (
+            min(abs(v), vmax) / lim
+            for v, vmax, lim in zip(twist, top, limits, strict=True)
+            if lim > 0 and math.isfinite(v)
+        ),
+        default=0.0,
     )
-    if not math.isfinite(seconds):
-        return 0
     return math.ceil(seconds / record.dt - 1e-9)
 
 
