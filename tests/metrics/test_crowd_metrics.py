@@ -130,10 +130,59 @@ def test_braking_steps_follow_the_twist_over_the_step_into_the_sample(make_recor
     side = np.column_stack([np.zeros(6), np.arange(6) * 0.03])  # +y at 0.3 m/s, yaw 0
     assert braking_steps(make_record(side, meta={"robot": "pr2"}), 2) == 2
     assert braking_steps(make_record(np.zeros((6, 2)), meta={"robot": "pr2"}), 3) == 0
-    # A jump of 5 m in one sample (a relocalization) counts as the PR2's top speed, 0.55 m/s:
-    # ceil(0.22 / 0.1) = 3, not 20.
+    # A jump of 5 m in one sample (a relocalization) is no speed to brake from.
     jump = np.vstack([np.zeros((3, 2)), np.full((3, 2), [5.0, 0.0])])
-    assert braking_steps(make_record(jump, meta={"robot": "pr2"}), 3) == 3
+    assert braking_steps(make_record(jump, meta={"robot": "pr2"}), 3) == 0
+    # The model's name in any case, or the limits themselves in the meta (a custom robot).
+    assert braking_steps(make_record(side, meta={"robot": "PR2"}), 2) == 2
+    limits = {"acc_lim": [1.0, 1.0, 1.0], "max_vel": [1.0, 1.0, 1.0], "robot": "mine"}
+    assert braking_steps(make_record(side, meta=limits), 2) == 3
+
+
+def test_only_braking_at_the_limits_is_excused_after_someone_appears(make_record) -> None:
+    # Newcomer trial: any motion within the braking time was excused. Keeping 0.5 m/s (or
+    # speeding up to 0.55) for the two samples a PR2 needs to stop, then stopping dead, drove
+    # into the person at full speed and was passive.
+    person = _appearing_ahead([0.525] * 10)[1]
+    zero = 0.0 * person
+    pr2 = {"robot": "pr2"}
+    for after in ([0.55, 0.6] + [0.6] * 8, [0.555, 0.61] + [0.61] * 8):
+        r = make_record(
+            _appearing_ahead(after)[0],
+            people=person,
+            people_velocities=zero,
+            family="crowd",
+            meta=pr2,
+        )
+        assert [e[3] for e in contact_events(r)] == [True]
+    # A person whose track flickers (absent every third sample) opened a new window at each
+    # reappearance: a robot driving through them at 0.5 m/s had only passive contacts. Now
+    # every contact while it closes on them is active; the last, once its centre has passed
+    # theirs (moving away), is passive.
+    on = list(0.5 + 0.05 * np.arange(1, 11))
+    flicker = person.copy()
+    flicker[12::3] = np.nan
+    r = make_record(
+        _appearing_ahead(on)[0],
+        people=flicker,
+        people_velocities=0.0 * flicker,
+        family="crowd",
+        meta=pr2,
+    )
+    assert [e[3] for e in contact_events(r)] == [True, True, True, False]
+    # At a coarse period (1 s) the ceil excused a whole second of driving at them.
+    x = np.array([0.0, 0.5, 1.0, 1.5, 2.0])
+    coarse = np.full((5, 1, 2), np.nan)
+    coarse[0], coarse[2:] = [9.0, 0.0], [1.0 + 0.2 + 0.25 + 0.01, 0.0]
+    r = make_record(
+        np.column_stack([x, 0 * x]),
+        people=coarse,
+        people_velocities=0.0 * coarse,
+        family="crowd",
+        meta=pr2,
+        dt=1.0,
+    )
+    assert [e[3] for e in contact_events(r)] == [True]
 
 
 def test_time_within_counts_samples_under_the_body_gap(make_record) -> None:

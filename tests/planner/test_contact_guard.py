@@ -142,6 +142,45 @@ def test_the_guard_never_steps_onto_a_wall_it_is_not_on():
     assert _approach(walled, pose, PR2, social) < _approach(brake, pose, PR2, social)
 
 
+def test_bug_someone_appearing_within_reach_gets_the_brake_not_the_forecasts_choice():
+    # Recorded crowds dev eth_hotel 34 (PR2): a person's track starts beside the robot while it
+    # turns; no command avoids closing on them, and the guard sent the command whose forecast
+    # approach was slowest, which kept turning at 1 rad/s for a period; the next period's turn
+    # swept a corner into them. A constant-velocity forecast of someone just seen is the least
+    # reliable one: now the plain brake, every axis toward zero at its limit.
+    v = np.array([0.5, 0.0, 0.0])
+    ahead = SocialContext((Person(7, (0.225 + 0.3 + 0.01, 0.1), (-0.3, 0.0), radius=0.3),))
+    brake = enforce_limits(np.zeros(3), v, PIONEER, DT)
+    slowest, worst = guard_contact(v, np.zeros(3), v, PIONEER, ahead, DT)
+    assert worst > SPEED and not np.array_equal(slowest, brake)  # none passes
+    fresh, _ = guard_contact(v, np.zeros(3), v, PIONEER, ahead, DT, appeared=frozenset({7}))
+    np.testing.assert_allclose(fresh, brake)
+    # someone else appearing out of reach changes nothing
+    other, _ = guard_contact(v, np.zeros(3), v, PIONEER, ahead, DT, appeared=frozenset({8}))
+    np.testing.assert_allclose(other, slowest)
+
+
+def test_the_navigator_tells_the_guard_who_appeared():
+    # A Pioneer at 0.5 m/s; someone walking at it 1 cm ahead, whom no reachable command avoids
+    # closing on. Seen for the first time this cycle: the navigator brakes at the limits. In
+    # view since the first cycle: the guard's slowest forecast approach, not the brake.
+    costmap, _ = world(8.0, 8.0, [], PIONEER)
+    pose = np.array([4.0, 4.0, 0.0])
+    v = np.array([0.5, 0.0, 0.0])
+    walker = Person(7, (4.0 + 0.225 + 0.3 + 0.01, 4.1), (-0.3, 0.0), radius=0.3)
+    near = SocialContext((walker,))
+    far = SocialContext((Person(2, (1.0, 1.0), (0.0, 0.0), radius=0.3),))
+    goal = np.array([7.0, 4.0, 0.0])
+    brake = enforce_limits(np.zeros(3), v, PIONEER, DT)
+    nav = build_navigator("paccet", PIONEER, costmap, goal, far)
+    nav.step(0.0, pose, v, far)
+    np.testing.assert_allclose(nav.step(0.1, pose, v, near).cmd, brake)
+    nav = build_navigator("paccet", PIONEER, costmap, goal, near)
+    nav.step(0.0, pose, v, near)
+    known = nav.step(0.1, pose, v, near).cmd
+    assert within_limits(known, v, PIONEER, DT) and not np.allclose(known, brake)
+
+
 ROBOTS = st.sampled_from([PR2, PIONEER])
 
 

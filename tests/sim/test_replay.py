@@ -131,6 +131,7 @@ def test_a_detected_context_shows_the_controller_noisy_tracks_of_the_present(see
     given, record = watched["given"]
     detected, again = watched["detected"]
     assert record.meta["context"] == "given" and again.meta["context"] == "detected"
+    assert record.meta["acc_lim"] == ROBOT_MODELS["pr2"].kinematic_limits()["acc_lim"]
     assert "estimator_ms_median" not in record.meta and again.meta["estimator_ms_median"] >= 0
     # the metrics are of the true people: the robot stood still, so the records agree
     np.testing.assert_array_equal(record.people_positions, again.people_positions)

@@ -99,6 +99,8 @@ def test_go_to_goal_episode_records_consistent_shapes() -> None:
     np.testing.assert_allclose(rec.target, rec.goal)  # no social goal in a hallway
     assert rec.walls.shape == (4, 2, 2)  # two long walls and two end caps
     assert rec.meta["planner"] == "GoToGoalController" and rec.meta["robot"] == "pr2"
+    # how fast it can brake, for the crowd metrics (metrics.crowd.robot_limits)
+    assert rec.meta["acc_lim"] == [2.5, 2.5, 3.2] and rec.meta["max_vel"] == [0.55, 0.3, 1.0]
     # It drives straight through the person: flagged, and only near x = 10.
     hit = rec.collision_person
     assert hit.any() and not rec.collision_obstacle.any()

@@ -51,6 +51,20 @@ class RobotModel:
         omnidirectional kinematics cap the norm there), ``max_vel_x`` otherwise."""
         return float(np.hypot(self.max_vel_x, self.max_vel_y)) if self.holonomic else self.max_vel_x
 
+    def kinematic_limits(self) -> dict[str, list[float]]:
+        """``{"acc_lim": [x, y, theta], "max_vel": [x, y, theta]}`` (m/s², rad/s²; m/s,
+        rad/s; ``max_vel`` x is the larger of ``|max_vel_x|`` and ``|min_vel_x|``): what an
+        episode record's ``meta`` carries so that metrics can tell how fast the robot can brake
+        (``socialnav.metrics.crowd.robot_limits``)."""
+        return {
+            "acc_lim": [float(self.acc_lim_x), float(self.acc_lim_y), float(self.acc_lim_theta)],
+            "max_vel": [
+                float(max(abs(self.max_vel_x), abs(self.min_vel_x))),
+                float(abs(self.max_vel_y)),
+                float(abs(self.max_vel_theta)),
+            ],
+        }
+
     @property
     def polygon(self) -> FloatArray:
         """Footprint vertices ``(V, 2)`` in the body frame."""

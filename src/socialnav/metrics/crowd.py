@@ -14,16 +14,18 @@ flank past a person does not close on them although its centre's velocity may po
 centre's velocity are active on the footprint's, most of them turning at 0.5–1 rad/s).
 
 People appear in a recording mid-episode, sometimes beside or inside the robot's footprint
-(ETH/UCY annotate people from where the camera first sees them). A robot cannot be at rest
-sooner than its braking time after it first sees someone, so the steps it takes within that
-time are not judged against them (*passive safety* with respect to what is seen: Macek et al.
-2009, Bouraine et al. 2012): the step into a person's first sample, and the steps out of the
-next ``n`` samples, ``n = ceil(max_axis |v| / acc_lim / dt)`` with ``v`` the robot's body twist
-over the step into the appearance (from the poses; axes ``x``, ``y``, ``theta``) and the
-acceleration limits of the robot model named by ``meta["robot"]`` (:func:`braking_steps`). With
-no known robot model, or for someone present from the episode's first sample, ``n = 0``: only
-the step into the appearance is unjudged. Steps after that window are judged as any other, so a
-robot that keeps driving into someone it has had time to stop for is active.
+(ETH/UCY annotate people from where the camera first sees them), and a robot cannot be at rest
+sooner than its braking time after it sees someone (*passive safety* with respect to what is
+seen: Macek et al. 2009, Bouraine et al. 2012). So the step into a person's first sample is not
+judged, and each time a person appears (again: a track that was absent), the next
+:func:`braking_steps` steps are not judged either *if the robot brakes at its acceleration
+limits in them* (:func:`braking_after`: on every axis no faster than braking from its twist at
+the appearance allows). A robot that keeps its speed, speeds up, or is still moving after its
+braking time has those steps judged as any other. The limits are the record's
+(``meta["acc_lim"]``, ``meta["max_vel"]``, written by the simulator) or those of the robot
+model ``meta["robot"]`` names; with neither, and for someone present from the episode's first
+sample, only the step into the appearance is unjudged.
+
 Success on a crowd episode requires no active contact; passive contacts are reported beside it
 (see ``metrics.success``, family ``crowd``).
 
@@ -40,7 +42,12 @@ import numpy as np
 from numpy.typing import NDArray
 
 from socialnav.core.episode import EpisodeRecord
-from socialnav.core.geometry import signed_distance_to_polygon, world_to_body_frames, wrap_angle
+from socialnav.core.geometry import (
+    FloatArray,
+    signed_distance_to_polygon,
+    world_to_body_frames,
+    wrap_angle,
+)
 from socialnav.core.robot import ROBOT_MODELS
 from socialnav.core.success import CONDITIONS, ConditionCheck
 from socialnav.metrics.base import MetricFn, metric
@@ -49,6 +56,13 @@ from socialnav.social.proxemics import INTIMATE, PERSONAL
 
 #: speed (m/s) at which the robot's footprint closes on a person, above which it approaches them
 APPROACH_SPEED = 0.05
+#: a step counts as braking at the limits with up to this fraction of one period's velocity
+#: change to spare (the simulator's integration and float rounding)
+BRAKING_SLACK = 0.05
+#: a twist from the poses faster than ``JUMP_FACTOR × max_vel + JUMP_MARGIN`` (m/s, rad/s) on
+#: some axis is a jump of the poses (a relocalization), not a speed to brake from
+JUMP_FACTOR = 1.5
+JUMP_MARGIN = 0.05
 FRANCIS = "Francis et al. 2023; SocNavBench (Biswas et al. 2022)"
 
 
@@ -77,11 +91,11 @@ def contact_events(record: EpisodeRecord) -> list[tuple[int, int, int, bool]]:
         # the step into a sample counts only if the person was there before it
         into_k = np.where(was_present[:, k], (sd[0] - sd[1]) / record.dt, -np.inf)
         out_k = (sd[1] - sd[2]) / record.dt
-        # nor the steps the robot takes braking after someone appears (module docstring)
+        # nor the steps the robot brakes at its limits after someone appears (module docstring)
         for a in np.flatnonzero(present[:, k] & ~was_present[:, k]):
-            n = braking_steps(record, int(a))
-            into_k[a : a + n + 1] = -np.inf
-            out_k[a : a + n] = -np.inf
+            for step in braking_after(record, int(a)):
+                out_k[step] = -np.inf
+                into_k[step + 1] = -np.inf
         approach = np.maximum(into_k, out_k)
         for first, last in _runs(contact[:, k]):
             active = bool(np.nanmax(approach[first : last + 1]) > APPROACH_SPEED)
@@ -90,34 +104,79 @@ def contact_events(record: EpisodeRecord) -> list[tuple[int, int, int, bool]]:
     return events
 
 
+def robot_limits(record: EpisodeRecord) -> tuple[FloatArray, FloatArray] | None:
+    """``(acc_lim (3,), max_vel (3,))`` of the robot, axes ``x, y, theta`` (m/s², rad/s²; m/s,
+    rad/s; ``max_vel[0]`` the larger of ``|max_vel_x|`` and ``|min_vel_x|``): from
+    ``meta["acc_lim"]`` and ``meta["max_vel"]`` (the simulator writes them), else from the
+    model ``meta["robot"]`` names in ``socialnav.core.robot.ROBOT_MODELS`` (any case); None
+    when neither is there."""
+    acc, top = record.meta.get("acc_lim"), record.meta.get("max_vel")
+    if acc is not None and top is not None:
+        try:
+            pair = np.asarray(acc, dtype=float).reshape(3), np.asarray(top, dtype=float).reshape(3)
+        except (TypeError, ValueError):
+            pair = None
+        if pair is not None and np.all(np.isfinite(pair[0])) and np.all(np.isfinite(pair[1])):
+            return np.abs(pair[0]), np.abs(pair[1])
+    model = ROBOT_MODELS.get(str(record.meta.get("robot", "")).lower())
+    if model is None:
+        return None
+    limits = model.kinematic_limits()
+    return np.array(limits["acc_lim"]), np.array(limits["max_vel"])
+
+
+def _step_twist(record: EpisodeRecord, step: int) -> FloatArray:
+    """The robot's body twist ``(vx, vy, wz)`` (m/s, rad/s) over the step from sample ``step``
+    to ``step + 1``, from its poses: the displacement in the frame of the heading halfway
+    through the step (the chord of a constant-twist arc points there; in the starting frame a
+    robot turning at 1 rad/s would show a sideways speed it does not have)."""
+    (x0, y0, yaw0), (x1, y1, yaw1) = record.robot_poses[step], record.robot_poses[step + 1]
+    turn = float(wrap_angle(yaw1 - yaw0))
+    mid = yaw0 + 0.5 * turn
+    c, s = math.cos(mid), math.sin(mid)
+    dx, dy = (x1 - x0) / record.dt, (y1 - y0) / record.dt
+    return np.array([c * dx + s * dy, -s * dx + c * dy, turn / record.dt])
+
+
 def braking_steps(record: EpisodeRecord, sample: int) -> int:
     """The number of samples ``n`` after ``sample`` within which the robot cannot be at rest:
     ``ceil(max_axis |v| / acc_lim / dt)``, with ``v`` its body twist ``(vx, vy, wz)`` (m/s,
-    rad/s) over the step into ``sample`` (from ``record.robot_poses``) and ``acc_lim`` the
-    ``acc_lim_x, acc_lim_y, acc_lim_theta`` of the robot model named by ``meta["robot"]``
-    (``socialnav.core.robot.ROBOT_MODELS``); an axis with a zero limit, or a non-finite twist,
-    does not count, and none counts faster than the model's ``max_vel_*`` (a jump in the poses,
-    e.g. a relocalization, is not speed to brake from). 0 at the first sample or when the model
-    is unknown."""
-    model = ROBOT_MODELS.get(str(record.meta.get("robot", "")))
-    if model is None or sample <= 0 or sample >= record.num_steps:
+    rad/s) over the step into ``sample`` (from ``record.robot_poses``) and the limits of
+    :func:`robot_limits`; an axis with a zero limit does not count. 0 at the first sample, when
+    the limits are unknown, and when ``v`` is no speed: faster than 1.5 × ``max_vel`` + 0.05 on
+    an axis, or not finite (a jump in the poses, e.g. a relocalization)."""
+    limits = robot_limits(record)
+    if limits is None or sample <= 0 or sample >= record.num_steps:
         return 0
-    (x0, y0, yaw0), (x1, y1, yaw1) = record.robot_poses[sample - 1], record.robot_poses[sample]
-    c, s = math.cos(yaw0), math.sin(yaw0)
-    dx, dy = (x1 - x0) / record.dt, (y1 - y0) / record.dt
-    twist = (c * dx + s * dy, -s * dx + c * dy, float(wrap_angle(yaw1 - yaw0)) / record.dt)
-    limits = (model.acc_lim_x, model.acc_lim_y, model.acc_lim_theta)
-    # no axis faster than the model allows: a jump in the poses is not speed to brake from
-    top = (max(model.max_vel_x, abs(model.min_vel_x)), model.max_vel_y, model.max_vel_theta)
-    seconds = max(
-        (
-            min(abs(v), vmax) / lim
-            for v, vmax, lim in zip(twist, top, limits, strict=True)
-            if lim > 0 and math.isfinite(v)
-        ),
-        default=0.0,
-    )
+    acc, top = limits
+    v = np.abs(_step_twist(record, sample - 1))
+    if not np.all(np.isfinite(v)) or np.any(v > JUMP_FACTOR * top + JUMP_MARGIN):
+        return 0
+    seconds = float(np.max(np.where(acc > 0, v / np.where(acc > 0, acc, 1.0), 0.0)))
     return math.ceil(seconds / record.dt - 1e-9)
+
+
+def braking_after(record: EpisodeRecord, sample: int) -> list[int]:
+    """The steps (index ``s``: from sample ``s`` to ``s + 1``) among the
+    :func:`braking_steps` after ``sample`` in which the robot brakes at its limits: on every
+    axis, ``|v_s| <= max(|v_in| - acc_lim · (s - sample + 1) · dt, 0)`` (+ ``BRAKING_SLACK`` of
+    one period's change), ``v_in`` the twist over the step into ``sample``. A robot that keeps
+    its speed, speeds up or turns toward someone in that time has those steps judged."""
+    n = braking_steps(record, sample)
+    limits = robot_limits(record)
+    if n == 0 or limits is None:
+        return []
+    acc = limits[0]
+    v_in = np.abs(_step_twist(record, sample - 1))
+    steps = []
+    for j in range(n):
+        s = sample + j
+        if s + 1 >= record.num_steps:
+            break
+        bound = np.maximum(v_in - acc * (j + 1) * record.dt, 0.0)
+        if np.all(np.abs(_step_twist(record, s)) <= bound + BRAKING_SLACK * acc * record.dt + 1e-9):
+            steps.append(s)
+    return steps
 
 
 def _runs(mask: NDArray[np.bool_]) -> list[tuple[int, int]]:
@@ -131,7 +190,8 @@ def _runs(mask: NDArray[np.bool_]) -> list[tuple[int, int]]:
 def collisions_active(record: EpisodeRecord) -> float:
     """Number of active contact events: footprint contact with a person while the robot moves
     toward them (its footprint closing on the person's centre at > 0.05 m/s), not counting the
-    steps it takes braking after the person appears (:func:`braking_steps`)."""
+    steps in which it brakes at its limits right after the person appears
+    (:func:`braking_after`)."""
     return float(sum(1 for *_, active in contact_events(record) if active))
 
 

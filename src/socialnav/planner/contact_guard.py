@@ -37,7 +37,15 @@ window (:func:`~socialnav.planner.limits.enforce_limits`'s, inside the velocity 
 unchanged command and the plain brake, each judged as executed (a holonomic base's
 translational speed capped at ``max_speed``), nearness measured per axis in units of the
 window. When none passes, the one whose worst approach is slowest (among those within
-0.1 mm/s of it, the nearest). With the static ``costmap``, a command whose stop puts the
+0.1 mm/s of it, the nearest), except when someone within reach was seen for the first time
+this cycle (``appeared``; a track that starts beside the robot, as people appear in recorded
+crowds): then the plain brake, every axis toward zero at its limit. A constant-velocity
+forecast of someone just seen is the least reliable one, and braking at the limits is what
+passive safety asks once someone is seen, and what the crowd metric does not hold against the
+robot (``socialnav.metrics.crowd.braking_after``); the slowest forecast approach kept a PR2
+turning at 1 rad/s one more period beside someone who had just appeared, and its next turn
+swept a corner into them (recorded crowds, dev eth_hotel 34). With the static ``costmap``, a
+command whose stop puts the
 footprint's outline on a LETHAL cell it is not on now is never chosen (the incoming command
 included, once it has failed; cells it covers now do not count), unless every command's stop
 does; then the people decide. A command that passes the people test is not checked against
@@ -269,14 +277,17 @@ def guard_contact(
     period: float,
     params: ContactGuardParams | None = None,
     costmap: Costmap | None = None,
+    appeared: frozenset[int] = frozenset(),
 ) -> tuple[FloatArray, float]:
     """``(command (3,), its approach speed m/s)``: ``cmd`` (a body twist already within
     :func:`~socialnav.planner.limits.enforce_limits`'s window around the measured body twist
     ``velocity (3,)``, m/s and rad/s) when it and its stop close on nobody it touches, else the
     reachable alternative of the module docstring. ``pose (3,)`` world ``(x, y, yaw)`` (m,
     rad); ``social``: the people in view (world frame); ``period`` (s): the control period;
-    ``costmap``: the static map whose LETHAL cells no chosen stop may newly touch. The approach
-    speed is ``-inf`` when nobody is touched. Never raises on ``(3,)`` numeric input: a
+    ``costmap``: the static map whose LETHAL cells no chosen stop may newly touch;
+    ``appeared``: the ids of the people seen for the first time this cycle (when one of them is
+    within reach and no command passes, the plain brake is sent). The approach speed is
+    ``-inf`` when nobody is touched. Never raises on ``(3,)`` numeric input: a
     non-finite ``cmd``, ``velocity`` or ``pose``, or a ``period`` that is not positive,
     returns ``cmd`` as it is with ``-inf`` (there is nothing it can judge); a stop is followed
     for at most ``MAX_BRAKING_STEPS`` periods."""
@@ -297,6 +308,7 @@ def guard_contact(
     near &= np.all(np.isfinite(positions), axis=1) & np.all(np.isfinite(velocities), axis=1)
     if not near.any():
         return cmd, -np.inf
+    fresh = bool(appeared) and any(social.people[i].id in appeared for i in np.flatnonzero(near))
     positions, velocities, radii = positions[near], velocities[near], radii[near]
 
     def worst_of(stops: FloatArray) -> FloatArray:
@@ -323,6 +335,8 @@ def guard_contact(
     ok = (worst <= p.approach_speed) & ~wall
     if ok.any():
         k = int(np.argmin(np.where(ok, dist, np.inf)))
+    elif fresh and not wall[1]:
+        k = 1  # someone just appeared within reach: brake at the limits (module docstring)
     else:  # the slowest approach off the walls; among near-ties (0.1 mm/s), the nearest
         best = float(np.min(np.where(wall, np.inf, worst)))
         k = int(np.argmin(np.where(~wall & (worst <= best + 1e-4), dist, np.inf)))

@@ -283,6 +283,7 @@ class Navigator:
             self._discard_pending()
         self._pending: _PendingPlan | None = None
         self._step_index = 0
+        self._seen: frozenset[int] | None = None  # ids in view last cycle (contact guard)
 
     # ---- public ---------------------------------------------------------------------------
     def step(
@@ -356,6 +357,10 @@ class Navigator:
         readable = q.shape == v.shape == (3,) and np.all(np.isfinite(q)) and np.all(np.isfinite(v))
         if self.contact_guard is None or not readable or not isinstance(social, SocialContext):
             return result
+        ids = frozenset(int(p.id) for p in social.people)
+        # everyone is new on the first cycle: nobody has "appeared" beside the robot then
+        appeared = frozenset() if self._seen is None else ids - self._seen
+        self._seen = ids
         local = social.within(q[:2], self.people_range)
         cmd, _ = guard_contact(
             result.cmd,
@@ -366,6 +371,7 @@ class Navigator:
             self.controller_period,
             self.contact_guard,
             self.costmap,
+            appeared,
         )
         if np.array_equal(cmd, result.cmd):
             return result

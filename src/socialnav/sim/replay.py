@@ -306,6 +306,7 @@ def run_crowd_episode(
         meta={
             "planner": planner_name,
             "robot": model.name,
+            **model.kinematic_limits(),
             "seed": int(seed),
             "humans": humans_label(switch_distance),
             "termination": reason,

@@ -302,6 +302,7 @@ def run_episode(
         meta={
             "planner": planner_name,
             "robot": model.name,
+            **model.kinematic_limits(),
             "seed": int(seed),
             "humans": humans,
             "reactive_behavior": reactive_behavior if humans == "reactive" else None,
