@@ -137,6 +137,16 @@ def test_braking_steps_follow_the_twist_over_the_step_into_the_sample(make_recor
     assert braking_steps(make_record(side, meta={"robot": "PR2"}), 2) == 2
     limits = {"acc_lim": [1.0, 1.0, 1.0], "max_vel": [1.0, 1.0, 1.0], "robot": "mine"}
     assert braking_steps(make_record(side, meta=limits), 2) == 3
+    # A known model wins over limits in the meta (no record claims weaker brakes than its
+    # robot has); limits that are no numbers, negative, or overflow count as unknown; so does a
+    # period that is not a positive number.
+    weak = {"robot": "pr2", "acc_lim": [1e-3] * 3, "max_vel": [1.0] * 3}
+    assert braking_steps(make_record(side, meta=weak), 2) == 2
+    for bad in ([1.0, -1.0, 1.0], [10**400] * 3, ["x"] * 3, [1.0, 1.0]):
+        meta = {"robot": "mine", "acc_lim": bad, "max_vel": [1.0] * 3}
+        assert braking_steps(make_record(side, meta=meta), 2) == 0
+    for dt in (0.0, float("nan")):
+        assert braking_steps(make_record(side, meta={"robot": "pr2"}, dt=dt), 2) == 0
 
 
 def test_only_braking_at_the_limits_is_excused_after_someone_appears(make_record) -> None:
@@ -155,6 +165,20 @@ def test_only_braking_at_the_limits_is_excused_after_someone_appears(make_record
             meta=pr2,
         )
         assert [e[3] for e in contact_events(r)] == [True]
+    # Second trial: reversing into them (0.5 m/s, then -0.25 m/s back into someone who appeared
+    # just behind) was excused, only the speed's size was compared. Braking does not reverse.
+    back = np.full((21, 1, 2), np.nan)
+    back[0] = [9.0, 0.0]
+    back[10:] = [0.5 - 0.2 - 0.25 - 0.01, 0.0]  # 0.01 m behind the robot at sample 10
+    x = np.concatenate([np.arange(11) * 0.05, 0.5 - 0.025 * np.arange(1, 11)])
+    r = make_record(
+        np.column_stack([x, 0 * x]),
+        people=back,
+        people_velocities=0.0 * back,
+        family="crowd",
+        meta=pr2,
+    )
+    assert [e[3] for e in contact_events(r)] == [True]
     # A person whose track flickers (absent every third sample) opened a new window at each
     # reappearance: a robot driving through them at 0.5 m/s had only passive contacts. Now
     # every contact while it closes on them is active; the last, once its centre has passed

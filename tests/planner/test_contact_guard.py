@@ -158,6 +158,15 @@ def test_bug_someone_appearing_within_reach_gets_the_brake_not_the_forecasts_cho
     # someone else appearing out of reach changes nothing
     other, _ = guard_contact(v, np.zeros(3), v, PIONEER, ahead, DT, appeared=frozenset({8}))
     np.testing.assert_allclose(other, slowest)
+    # Second trial: a newcomer within reach but not the one closed on braked the robot too;
+    # the brake is for when only the people who just appeared make every command fail.
+    side = Person(8, (-0.1, 0.9), (0.0, 0.0), radius=0.3)  # within reach, not touched
+    both = SocialContext((ahead.people[0], side))
+    base, _ = guard_contact(v, np.zeros(3), v, PIONEER, both, DT)
+    known, _ = guard_contact(v, np.zeros(3), v, PIONEER, both, DT, appeared=frozenset({8}))
+    np.testing.assert_allclose(known, base)
+    new, _ = guard_contact(v, np.zeros(3), v, PIONEER, both, DT, appeared=frozenset({7}))
+    np.testing.assert_allclose(new, brake)
 
 
 def test_the_navigator_tells_the_guard_who_appeared():
@@ -179,6 +188,11 @@ def test_the_navigator_tells_the_guard_who_appeared():
     nav.step(0.0, pose, v, near)
     known = nav.step(0.1, pose, v, near).cmd
     assert within_limits(known, v, PIONEER, DT) and not np.allclose(known, brake)
+    # An invalid cycle leaves the navigator's state alone: the walker is still new after it.
+    nav = build_navigator("paccet", PIONEER, costmap, goal, far)
+    nav.step(0.0, pose, v, far)
+    assert nav.step(float("nan"), pose, v, near).status.value == "INVALID_INPUT"
+    np.testing.assert_allclose(nav.step(0.1, pose, v, near).cmd, brake)
 
 
 ROBOTS = st.sampled_from([PR2, PIONEER])

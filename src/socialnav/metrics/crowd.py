@@ -21,10 +21,11 @@ judged, and each time a person appears (again: a track that was absent), the nex
 :func:`braking_steps` steps are not judged either *if the robot brakes at its acceleration
 limits in them* (:func:`braking_after`: on every axis no faster than braking from its twist at
 the appearance allows). A robot that keeps its speed, speeds up, or is still moving after its
-braking time has those steps judged as any other. The limits are the record's
-(``meta["acc_lim"]``, ``meta["max_vel"]``, written by the simulator) or those of the robot
-model ``meta["robot"]`` names; with neither, and for someone present from the episode's first
-sample, only the step into the appearance is unjudged.
+braking time has those steps judged as any other. The limits are those of the robot model
+``meta["robot"]`` names, else the record's ``meta["acc_lim"]`` and ``meta["max_vel"]`` (the
+simulator writes them for any robot; :func:`robot_limits`); with neither, with a period that is
+not a positive number, and for someone present from the episode's first sample, only the step
+into the appearance is unjudged.
 
 Success on a crowd episode requires no active contact; passive contacts are reported beside it
 (see ``metrics.success``, family ``crowd``).
@@ -106,23 +107,24 @@ def contact_events(record: EpisodeRecord) -> list[tuple[int, int, int, bool]]:
 
 def robot_limits(record: EpisodeRecord) -> tuple[FloatArray, FloatArray] | None:
     """``(acc_lim (3,), max_vel (3,))`` of the robot, axes ``x, y, theta`` (m/s², rad/s²; m/s,
-    rad/s; ``max_vel[0]`` the larger of ``|max_vel_x|`` and ``|min_vel_x|``): from
-    ``meta["acc_lim"]`` and ``meta["max_vel"]`` (the simulator writes them), else from the
-    model ``meta["robot"]`` names in ``socialnav.core.robot.ROBOT_MODELS`` (any case); None
-    when neither is there."""
-    acc, top = record.meta.get("acc_lim"), record.meta.get("max_vel")
-    if acc is not None and top is not None:
-        try:
-            pair = np.asarray(acc, dtype=float).reshape(3), np.asarray(top, dtype=float).reshape(3)
-        except (TypeError, ValueError):
-            pair = None
-        if pair is not None and np.all(np.isfinite(pair[0])) and np.all(np.isfinite(pair[1])):
-            return np.abs(pair[0]), np.abs(pair[1])
+    rad/s; ``max_vel[0]`` the larger of ``|max_vel_x|`` and ``|min_vel_x|``): those of the
+    model ``meta["robot"]`` names in ``socialnav.core.robot.ROBOT_MODELS`` (any case), else
+    ``meta["acc_lim"]`` and ``meta["max_vel"]`` (the simulator writes them for any robot) when
+    they are three finite non-negative numbers each; None otherwise. A known model wins, so a
+    record cannot claim weaker brakes than its robot has."""
     model = ROBOT_MODELS.get(str(record.meta.get("robot", "")).lower())
-    if model is None:
+    if model is not None:
+        limits = model.kinematic_limits()
+        return np.array(limits["acc_lim"]), np.array(limits["max_vel"])
+    try:
+        acc = np.asarray(record.meta.get("acc_lim"), dtype=float).reshape(3)
+        top = np.asarray(record.meta.get("max_vel"), dtype=float).reshape(3)
+    except (TypeError, ValueError, OverflowError):
         return None
-    limits = model.kinematic_limits()
-    return np.array(limits["acc_lim"]), np.array(limits["max_vel"])
+    pair = np.concatenate([acc, top])
+    if not (np.all(np.isfinite(pair)) and np.all(pair >= 0.0)):
+        return None
+    return acc, top
 
 
 def _step_twist(record: EpisodeRecord, step: int) -> FloatArray:
@@ -146,7 +148,8 @@ def braking_steps(record: EpisodeRecord, sample: int) -> int:
     the limits are unknown, and when ``v`` is no speed: faster than 1.5 × ``max_vel`` + 0.05 on
     an axis, or not finite (a jump in the poses, e.g. a relocalization)."""
     limits = robot_limits(record)
-    if limits is None or sample <= 0 or sample >= record.num_steps:
+    dt_ok = math.isfinite(record.dt) and record.dt > 0
+    if limits is None or not dt_ok or sample <= 0 or sample >= record.num_steps:
         return 0
     acc, top = limits
     v = np.abs(_step_twist(record, sample - 1))
@@ -159,22 +162,27 @@ def braking_steps(record: EpisodeRecord, sample: int) -> int:
 def braking_after(record: EpisodeRecord, sample: int) -> list[int]:
     """The steps (index ``s``: from sample ``s`` to ``s + 1``) among the
     :func:`braking_steps` after ``sample`` in which the robot brakes at its limits: on every
-    axis, ``|v_s| <= max(|v_in| - acc_lim · (s - sample + 1) · dt, 0)`` (+ ``BRAKING_SLACK`` of
-    one period's change), ``v_in`` the twist over the step into ``sample``. A robot that keeps
-    its speed, speeds up or turns toward someone in that time has those steps judged."""
+    axis, ``|v_s| <= max(|v_in| - acc_lim · (s - sample + 1) · dt, 0)`` and ``v_s`` not of the
+    opposite sign to ``v_in`` (each up to ``BRAKING_SLACK`` of one period's change), ``v_in``
+    the twist over the step into ``sample``. A robot that keeps its speed, speeds up, reverses
+    or turns the other way in that time has those steps judged."""
     n = braking_steps(record, sample)
     limits = robot_limits(record)
     if n == 0 or limits is None:
         return []
     acc = limits[0]
-    v_in = np.abs(_step_twist(record, sample - 1))
+    v_in = _step_twist(record, sample - 1)
+    toward = np.sign(v_in)
+    slack = BRAKING_SLACK * acc * record.dt + 1e-9
     steps = []
     for j in range(n):
         s = sample + j
         if s + 1 >= record.num_steps:
             break
-        bound = np.maximum(v_in - acc * (j + 1) * record.dt, 0.0)
-        if np.all(np.abs(_step_twist(record, s)) <= bound + BRAKING_SLACK * acc * record.dt + 1e-9):
+        bound = np.maximum(np.abs(v_in) - acc * (j + 1) * record.dt, 0.0)
+        v = _step_twist(record, s)
+        # slower on every axis, and never the other way: braking stops, it does not reverse
+        if np.all(np.abs(v) <= bound + slack) and np.all(v * toward >= -slack):
             steps.append(s)
     return steps
 

@@ -37,9 +37,11 @@ window (:func:`~socialnav.planner.limits.enforce_limits`'s, inside the velocity 
 unchanged command and the plain brake, each judged as executed (a holonomic base's
 translational speed capped at ``max_speed``), nearness measured per axis in units of the
 window. When none passes, the one whose worst approach is slowest (among those within
-0.1 mm/s of it, the nearest), except when someone within reach was seen for the first time
-this cycle (``appeared``; a track that starts beside the robot, as people appear in recorded
-crowds): then the plain brake, every axis toward zero at its limit. A constant-velocity
+0.1 mm/s of it, the nearest), except when it is only people who were not in view the cycle
+before (``appeared``: a new track, or one back after dropping out, as people appear in
+recorded crowds; an id reused for someone else is not new) that make every command fail —
+some command closes on none of the others: then the plain brake, every axis toward zero at
+its limit. A constant-velocity
 forecast of someone just seen is the least reliable one, and braking at the limits is what
 passive safety asks once someone is seen, and what the crowd metric does not hold against the
 robot (``socialnav.metrics.crowd.braking_after``); the slowest forecast approach kept a PR2
@@ -60,6 +62,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from numbers import Integral
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -189,6 +192,24 @@ def approach_speeds(
     return worst
 
 
+def _passes_without(
+    fresh: NDArray[np.bool_],
+    twists: FloatArray,
+    stops: FloatArray,
+    wall: NDArray[np.bool_],
+    params: ContactGuardParams,
+    worst_of: Any,
+) -> bool:
+    """Whether some command off the walls closes on none of the people *not* ``fresh (K,)``
+    (``worst_of`` judges ``stops`` against the people it is given, here all of them; the known
+    people alone are judged by masking the others out): then only the people who just
+    appeared make every command fail."""
+    if fresh.all():
+        return True
+    known = worst_of(stops, ~fresh)
+    return bool(np.any((known <= params.approach_speed) & ~wall))
+
+
 def _alternatives(
     cmd: FloatArray, velocity: FloatArray, robot: RobotModel, period: float, grid: int
 ) -> FloatArray:
@@ -285,8 +306,8 @@ def guard_contact(
     reachable alternative of the module docstring. ``pose (3,)`` world ``(x, y, yaw)`` (m,
     rad); ``social``: the people in view (world frame); ``period`` (s): the control period;
     ``costmap``: the static map whose LETHAL cells no chosen stop may newly touch;
-    ``appeared``: the ids of the people seen for the first time this cycle (when one of them is
-    within reach and no command passes, the plain brake is sent). The approach speed is
+    ``appeared``: the ids of the people not in view the cycle before (when no command passes
+    but one passes against everyone else, the plain brake is sent). The approach speed is
     ``-inf`` when nobody is touched. Never raises on ``(3,)`` numeric input: a
     non-finite ``cmd``, ``velocity`` or ``pose``, or a ``period`` that is not positive,
     returns ``cmd`` as it is with ``-inf`` (there is nothing it can judge); a stop is followed
@@ -308,12 +329,16 @@ def guard_contact(
     near &= np.all(np.isfinite(positions), axis=1) & np.all(np.isfinite(velocities), axis=1)
     if not near.any():
         return cmd, -np.inf
-    fresh = bool(appeared) and any(social.people[i].id in appeared for i in np.flatnonzero(near))
+    fresh = np.array([social.people[i].id in appeared for i in np.flatnonzero(near)], dtype=bool)
     positions, velocities, radii = positions[near], velocities[near], radii[near]
 
-    def worst_of(stops: FloatArray) -> FloatArray:
+    def worst_of(stops: FloatArray, who: NDArray[np.bool_] | None = None) -> FloatArray:
+        if who is None:
+            return approach_speeds(
+                stops, robot, positions, velocities, radii, period, p.contact_tolerance
+            )
         return approach_speeds(
-            stops, robot, positions, velocities, radii, period, p.contact_tolerance
+            stops, robot, positions[who], velocities[who], radii[who], period, p.contact_tolerance
         )
 
     first = worst_of(stop_poses(q, executed(c[None], robot), robot, period))
@@ -335,8 +360,8 @@ def guard_contact(
     ok = (worst <= p.approach_speed) & ~wall
     if ok.any():
         k = int(np.argmin(np.where(ok, dist, np.inf)))
-    elif fresh and not wall[1]:
-        k = 1  # someone just appeared within reach: brake at the limits (module docstring)
+    elif fresh.any() and not wall[1] and _passes_without(fresh, twists, stops, wall, p, worst_of):
+        k = 1  # only someone who just appeared is closed on: brake at the limits (docstring)
     else:  # the slowest approach off the walls; among near-ties (0.1 mm/s), the nearest
         best = float(np.min(np.where(wall, np.inf, worst)))
         k = int(np.argmin(np.where(~wall & (worst <= best + 1e-4), dist, np.inf)))

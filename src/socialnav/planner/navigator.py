@@ -303,7 +303,8 @@ class Navigator:
             problem = self._invalid(t, pose, velocity, social)
             if problem:
                 stop = PlannerResult(np.zeros(3), PlannerStatus.INVALID_INPUT, None, problem)
-                return self._guarded(self._limited(stop, velocity), pose, velocity, social)
+                limited = self._limited(stop, velocity)
+                return self._guarded(limited, pose, velocity, social, track=False)
             self._step_index += 1
             pose_a, vel_a = np.asarray(pose, float), np.asarray(velocity, float)
             result = self._step(t, pose_a, vel_a, social)
@@ -349,7 +350,7 @@ class Navigator:
         return replace(result, cmd=cmd)
 
     def _guarded(
-        self, result: PlannerResult, pose: Any, velocity: Any, social: Any
+        self, result: PlannerResult, pose: Any, velocity: Any, social: Any, track: bool = True
     ) -> PlannerResult:
         """``result`` with its command through the contact guard (module docstring); as it is
         when there is no guard or the pose, velocity or people cannot be read."""
@@ -358,9 +359,11 @@ class Navigator:
         if self.contact_guard is None or not readable or not isinstance(social, SocialContext):
             return result
         ids = frozenset(int(p.id) for p in social.people)
-        # everyone is new on the first cycle: nobody has "appeared" beside the robot then
+        # nobody has "appeared" beside the robot on the first cycle; an invalid cycle
+        # (``track`` False) leaves the navigator's state as it was
         appeared = frozenset() if self._seen is None else ids - self._seen
-        self._seen = ids
+        if track:
+            self._seen = ids
         local = social.within(q[:2], self.people_range)
         cmd, _ = guard_contact(
             result.cmd,
