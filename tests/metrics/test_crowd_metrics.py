@@ -75,6 +75,14 @@ def test_a_person_appearing_on_the_robot_is_not_approached_by_the_step_before(
     assert [e[3] for e in contact_events(r)] == [True]
 
 
+def _standing(make_record, robot_xy, people, **kwargs):
+    """A crowd record of a PR2 among people standing where ``people (T, K, 2)`` puts them."""
+    kwargs.setdefault("meta", {"robot": "pr2"})
+    return make_record(
+        robot_xy, people=people, people_velocities=0.0 * people, family="crowd", **kwargs
+    )
+
+
 def _appearing_ahead(after: list[float]) -> tuple[np.ndarray, np.ndarray]:
     """A robot (SQUARE, 0.2 m half side) driving +x at 0.5 m/s for 10 samples, then at the x
     positions ``after``; a standing person who appears at sample 10, 0.01 m ahead of it."""
@@ -93,27 +101,21 @@ def test_bug_braking_at_the_limit_after_someone_appears_is_not_active(make_recor
     # paccet on development seeds 0-89 and reporting seeds 10,000-10,049 was someone appearing
     # in the recording within the robot's braking reach).
     robot, person = _appearing_ahead([0.525] * 10)
-    zero = 0.0 * person
-    pr2 = {"robot": "pr2"}
-    r = make_record(robot, people=person, people_velocities=zero, family="crowd", meta=pr2)
+    r = _standing(make_record, robot, person)
     assert braking_steps(r, 10) == 2
     assert [e[3] for e in contact_events(r)] == [False]
     assert evaluate_success(r)["no_active_collision"]
     # Braking at half the limit it could have stopped by sample 12 and still closes on them
     # after that (0.125 m/s): active. Driving on at 0.5 m/s: active.
     half = [0.5375, 0.5625, 0.575] + [0.575] * 7
-    r = make_record(
-        *_appearing_ahead(half)[:1], people=person, people_velocities=zero, family="crowd", meta=pr2
-    )
+    r = _standing(make_record, _appearing_ahead(half)[0], person)
     assert [e[3] for e in contact_events(r)] == [True]
     on = list(0.5 + 0.05 * np.arange(1, 11))
-    r = make_record(
-        *_appearing_ahead(on)[:1], people=person, people_velocities=zero, family="crowd", meta=pr2
-    )
+    r = _standing(make_record, _appearing_ahead(on)[0], person)
     assert [e[3] for e in contact_events(r)] == [True]
     # Without a known robot model nothing tells the braking time: only the step into the
     # appearance is unjudged, as before.
-    r = make_record(robot, people=person, people_velocities=zero, family="crowd")
+    r = _standing(make_record, robot, person, meta={})
     assert braking_steps(r, 10) == 0
     assert [e[3] for e in contact_events(r)] == [True]
 
@@ -154,16 +156,8 @@ def test_only_braking_at_the_limits_is_excused_after_someone_appears(make_record
     # speeding up to 0.55) for the two samples a PR2 needs to stop, then stopping dead, drove
     # into the person at full speed and was passive.
     person = _appearing_ahead([0.525] * 10)[1]
-    zero = 0.0 * person
-    pr2 = {"robot": "pr2"}
     for after in ([0.55, 0.6] + [0.6] * 8, [0.555, 0.61] + [0.61] * 8):
-        r = make_record(
-            _appearing_ahead(after)[0],
-            people=person,
-            people_velocities=zero,
-            family="crowd",
-            meta=pr2,
-        )
+        r = _standing(make_record, _appearing_ahead(after)[0], person)
         assert [e[3] for e in contact_events(r)] == [True]
     # Second trial: reversing into them (0.5 m/s, then -0.25 m/s back into someone who appeared
     # just behind) was excused, only the speed's size was compared. Braking does not reverse.
@@ -171,13 +165,7 @@ def test_only_braking_at_the_limits_is_excused_after_someone_appears(make_record
     back[0] = [9.0, 0.0]
     back[10:] = [0.5 - 0.2 - 0.25 - 0.01, 0.0]  # 0.01 m behind the robot at sample 10
     x = np.concatenate([np.arange(11) * 0.05, 0.5 - 0.025 * np.arange(1, 11)])
-    r = make_record(
-        np.column_stack([x, 0 * x]),
-        people=back,
-        people_velocities=0.0 * back,
-        family="crowd",
-        meta=pr2,
-    )
+    r = _standing(make_record, np.column_stack([x, 0 * x]), back)
     assert [e[3] for e in contact_events(r)] == [True]
     # A person whose track flickers (absent every third sample) opened a new window at each
     # reappearance: a robot driving through them at 0.5 m/s had only passive contacts. Now
@@ -186,26 +174,13 @@ def test_only_braking_at_the_limits_is_excused_after_someone_appears(make_record
     on = list(0.5 + 0.05 * np.arange(1, 11))
     flicker = person.copy()
     flicker[12::3] = np.nan
-    r = make_record(
-        _appearing_ahead(on)[0],
-        people=flicker,
-        people_velocities=0.0 * flicker,
-        family="crowd",
-        meta=pr2,
-    )
+    r = _standing(make_record, _appearing_ahead(on)[0], flicker)
     assert [e[3] for e in contact_events(r)] == [True, True, True, False]
     # At a coarse period (1 s) the ceil excused a whole second of driving at them.
     x = np.array([0.0, 0.5, 1.0, 1.5, 2.0])
     coarse = np.full((5, 1, 2), np.nan)
     coarse[0], coarse[2:] = [9.0, 0.0], [1.0 + 0.2 + 0.25 + 0.01, 0.0]
-    r = make_record(
-        np.column_stack([x, 0 * x]),
-        people=coarse,
-        people_velocities=0.0 * coarse,
-        family="crowd",
-        meta=pr2,
-        dt=1.0,
-    )
+    r = _standing(make_record, np.column_stack([x, 0 * x]), coarse, dt=1.0)
     assert [e[3] for e in contact_events(r)] == [True]
 
 

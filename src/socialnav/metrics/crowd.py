@@ -140,6 +140,22 @@ def _step_twist(record: EpisodeRecord, step: int) -> FloatArray:
     return np.array([c * dx + s * dy, -s * dx + c * dy, turn / record.dt])
 
 
+def _braking(record: EpisodeRecord, sample: int) -> tuple[int, FloatArray, FloatArray]:
+    """``(n, acc_lim (3,), v_in (3,))`` of :func:`braking_steps` and :func:`braking_after`
+    (``n`` 0 where there is nothing to excuse)."""
+    limits = robot_limits(record)
+    dt_ok = math.isfinite(record.dt) and record.dt > 0
+    if limits is None or not dt_ok or sample <= 0 or sample >= record.num_steps:
+        return 0, np.zeros(3), np.zeros(3)
+    acc, top = limits
+    v_in = _step_twist(record, sample - 1)
+    v = np.abs(v_in)
+    if not np.all(np.isfinite(v)) or np.any(v > JUMP_FACTOR * top + JUMP_MARGIN):
+        return 0, acc, v_in
+    seconds = float(np.max(np.where(acc > 0, v / np.where(acc > 0, acc, 1.0), 0.0)))
+    return math.ceil(seconds / record.dt - 1e-9), acc, v_in
+
+
 def braking_steps(record: EpisodeRecord, sample: int) -> int:
     """The number of samples ``n`` after ``sample`` within which the robot cannot be at rest:
     ``ceil(max_axis |v| / acc_lim / dt)``, with ``v`` its body twist ``(vx, vy, wz)`` (m/s,
@@ -147,16 +163,7 @@ def braking_steps(record: EpisodeRecord, sample: int) -> int:
     :func:`robot_limits`; an axis with a zero limit does not count. 0 at the first sample, when
     the limits are unknown, and when ``v`` is no speed: faster than 1.5 × ``max_vel`` + 0.05 on
     an axis, or not finite (a jump in the poses, e.g. a relocalization)."""
-    limits = robot_limits(record)
-    dt_ok = math.isfinite(record.dt) and record.dt > 0
-    if limits is None or not dt_ok or sample <= 0 or sample >= record.num_steps:
-        return 0
-    acc, top = limits
-    v = np.abs(_step_twist(record, sample - 1))
-    if not np.all(np.isfinite(v)) or np.any(v > JUMP_FACTOR * top + JUMP_MARGIN):
-        return 0
-    seconds = float(np.max(np.where(acc > 0, v / np.where(acc > 0, acc, 1.0), 0.0)))
-    return math.ceil(seconds / record.dt - 1e-9)
+    return _braking(record, sample)[0]
 
 
 def braking_after(record: EpisodeRecord, sample: int) -> list[int]:
@@ -166,20 +173,12 @@ def braking_after(record: EpisodeRecord, sample: int) -> list[int]:
     opposite sign to ``v_in`` (each up to ``BRAKING_SLACK`` of one period's change), ``v_in``
     the twist over the step into ``sample``. A robot that keeps its speed, speeds up, reverses
     or turns the other way in that time has those steps judged."""
-    n = braking_steps(record, sample)
-    limits = robot_limits(record)
-    if n == 0 or limits is None:
-        return []
-    acc = limits[0]
-    v_in = _step_twist(record, sample - 1)
+    n, acc, v_in = _braking(record, sample)
     toward = np.sign(v_in)
     slack = BRAKING_SLACK * acc * record.dt + 1e-9
     steps = []
-    for j in range(n):
-        s = sample + j
-        if s + 1 >= record.num_steps:
-            break
-        bound = np.maximum(np.abs(v_in) - acc * (j + 1) * record.dt, 0.0)
+    for s in range(sample, min(sample + n, record.num_steps - 1)):
+        bound = np.maximum(np.abs(v_in) - acc * (s - sample + 1) * record.dt, 0.0)
         v = _step_twist(record, s)
         # slower on every axis, and never the other way: braking stops, it does not reverse
         if np.all(np.abs(v) <= bound + slack) and np.all(v * toward >= -slack):

@@ -41,13 +41,12 @@ window. When none passes, the one whose worst approach is slowest (among those w
 before (``appeared``: a new track, or one back after dropping out, as people appear in
 recorded crowds; an id reused for someone else is not new) that make every command fail —
 some command closes on none of the others: then the plain brake, every axis toward zero at
-its limit. A constant-velocity
-forecast of someone just seen is the least reliable one, and braking at the limits is what
-passive safety asks once someone is seen, and what the crowd metric does not hold against the
-robot (``socialnav.metrics.crowd.braking_after``); the slowest forecast approach kept a PR2
-turning at 1 rad/s one more period beside someone who had just appeared, and its next turn
-swept a corner into them (recorded crowds, dev eth_hotel 34). With the static ``costmap``, a
-command whose stop puts the
+its limit. A constant-velocity forecast of someone just seen is the least reliable one, and
+braking at the limits is what passive safety asks once someone is seen and what the crowd
+metric does not hold against the robot (``socialnav.metrics.crowd.braking_after``); the
+slowest forecast approach kept a PR2 turning at 1 rad/s one more period beside someone who had
+just appeared, and its next turn swept a corner into them (recorded crowds, dev eth_hotel 34).
+With the static ``costmap``, a command whose stop puts the
 footprint's outline on a LETHAL cell it is not on now is never chosen (the incoming command
 included, once it has failed; cells it covers now do not count), unless every command's stop
 does; then the people decide. A command that passes the people test is not checked against
@@ -60,9 +59,9 @@ cycle (about 40–60 µs after the limits' 20 µs; ``benchmarks/bench_contact_gu
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from numbers import Integral
-from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -194,20 +193,17 @@ def approach_speeds(
 
 def _passes_without(
     fresh: NDArray[np.bool_],
-    twists: FloatArray,
     stops: FloatArray,
     wall: NDArray[np.bool_],
     params: ContactGuardParams,
-    worst_of: Any,
+    worst_of: Callable[[FloatArray, NDArray[np.bool_]], FloatArray],
 ) -> bool:
-    """Whether some command off the walls closes on none of the people *not* ``fresh (K,)``
-    (``worst_of`` judges ``stops`` against the people it is given, here all of them; the known
-    people alone are judged by masking the others out): then only the people who just
-    appeared make every command fail."""
-    if fresh.all():
-        return True
-    known = worst_of(stops, ~fresh)
-    return bool(np.any((known <= params.approach_speed) & ~wall))
+    """Whether some stop of ``stops`` off the walls closes on none of the people *not*
+    ``fresh (K,)`` (``worst_of(stops, who)`` judges them against the people ``who``): then
+    only the people who just appeared make every command fail."""
+    return bool(fresh.all()) or bool(
+        np.any((worst_of(stops, ~fresh) <= params.approach_speed) & ~wall)
+    )
 
 
 def _alternatives(
@@ -333,12 +329,9 @@ def guard_contact(
     positions, velocities, radii = positions[near], velocities[near], radii[near]
 
     def worst_of(stops: FloatArray, who: NDArray[np.bool_] | None = None) -> FloatArray:
-        if who is None:
-            return approach_speeds(
-                stops, robot, positions, velocities, radii, period, p.contact_tolerance
-            )
+        at = slice(None) if who is None else who
         return approach_speeds(
-            stops, robot, positions[who], velocities[who], radii[who], period, p.contact_tolerance
+            stops, robot, positions[at], velocities[at], radii[at], period, p.contact_tolerance
         )
 
     first = worst_of(stop_poses(q, executed(c[None], robot), robot, period))
@@ -360,7 +353,7 @@ def guard_contact(
     ok = (worst <= p.approach_speed) & ~wall
     if ok.any():
         k = int(np.argmin(np.where(ok, dist, np.inf)))
-    elif fresh.any() and not wall[1] and _passes_without(fresh, twists, stops, wall, p, worst_of):
+    elif fresh.any() and not wall[1] and _passes_without(fresh, stops, wall, p, worst_of):
         k = 1  # only someone who just appeared is closed on: brake at the limits (docstring)
     else:  # the slowest approach off the walls; among near-ties (0.1 mm/s), the nearest
         best = float(np.min(np.where(wall, np.inf, worst)))
