@@ -140,15 +140,13 @@ def test_arrival_time_prefers_the_rollout_that_arrives_first():
 def test_rollouts_do_not_stop_at_a_waypoint_they_pass_through():
     """Gallery passing got STUCK beside the viewer: snapping rollouts onto a 0.5 m waypoint hid
     their real end points (nearer the viewer) from the social critics."""
-    from socialnav.planner.local_planner import _passing_waypoint
-
     wp = SocialGoal(np.array([1.0, 2.0, 0.0]), "waypoint", is_waypoint=True)
     ctx = dataclasses.replace(make_ctx(social_goal=wp), goal=wp.pose)
-    assert _passing_waypoint(ctx)
+    assert ctx.steers_to_waypoint()
     after = dataclasses.replace(ctx, goal=np.array([6.0, 2.0, 0.0]))  # waypoint passed
-    assert not _passing_waypoint(after)
+    assert not after.steers_to_waypoint()
     spot = SocialGoal(np.array([1.0, 2.0, 0.0]), "queue_tail")
-    assert not _passing_waypoint(dataclasses.replace(ctx, social_goal=spot))
+    assert not dataclasses.replace(ctx, social_goal=spot).steers_to_waypoint()
 
 
 def test_bug_robot_at_the_spot_makes_room_to_turn_instead_of_staying_latched():

@@ -171,6 +171,44 @@ def test_goal_handling_stop_rotate_reached():
     assert r.status == PlannerStatus.GOAL_REACHED and np.all(r.cmd == 0)
 
 
+def _drive_in_cmd(robot, align: bool, yaw: float) -> np.ndarray:
+    """The command 0.4 m short of a goal at (2.4, 2.0, ``yaw``), driving in at 0.3 m/s."""
+    params = LocalPlannerParams(stop_at_goal=True, heading_goal_align=align)
+    path = np.array([[2.0, 2.0], [2.4, 2.0]])
+    ctx = context(
+        blank(80, 80),
+        robot,
+        pose=(2.0, 2.0, 0.0),
+        velocity=(0.3, 0, 0),
+        path=path,
+        goal=(2.4, 2.0, yaw),
+    )
+    r = traditional_planner(robot, params).plan(ctx)
+    assert r.status == PlannerStatus.OK and r.cmd[0] > 0.0
+    return r.cmd
+
+
+def test_goal_align_turns_a_holonomic_base_toward_the_goal_yaw_while_driving_in():
+    # The goal faces 90° left or right of the travel. With heading_goal_align the PR2 drives in
+    # turning toward the goal's yaw at the most the dynamic window allows (acc_lim_theta ×
+    # period); without, the goal's yaw does not change its command.
+    window = PR2.acc_lim_theta * LocalPlannerParams().controller_period
+    np.testing.assert_array_equal(
+        _drive_in_cmd(PR2, False, np.pi / 2), _drive_in_cmd(PR2, False, -np.pi / 2)
+    )
+    assert _drive_in_cmd(PR2, True, np.pi / 2)[2] == pytest.approx(window, abs=0.02)
+    assert _drive_in_cmd(PR2, True, -np.pi / 2)[2] == pytest.approx(-window, abs=0.02)
+
+
+def test_goal_align_leaves_a_differential_drive_to_turn_in_place_at_the_goal():
+    # A differential drive can only turn on the way in by bending its path (module docstring
+    # of critics.heading): the goal's yaw does not change its command.
+    for align in (False, True):
+        np.testing.assert_array_equal(
+            _drive_in_cmd(PIONEER, align, np.pi / 2), _drive_in_cmd(PIONEER, align, -np.pi / 2)
+        )
+
+
 def test_oscillation_guard_locks_the_reversed_axis_until_moved():
     g = OscillationGuard(0.05, 0.2)
     pose = np.zeros(3)

@@ -293,6 +293,56 @@ def test_heading_near_the_end_uses_the_tangent():
     assert HeadingCritic().score(tr, ctx).cost[0] == pytest.approx(0.0, abs=1e-9)
 
 
+def _hooked_plan_ctx(pose=(0.5, 1.45, 0.0), **kw):
+    """A plan whose last grid segment turns 90° (up) onto a goal that faces +x."""
+    path = np.array([[0.5, 1.45], [1.5, 1.45], [1.5, 1.5]])
+    return context(blank(60, 60), TINY, pose=pose, path=path, goal=(1.5, 1.5, 0.0), **kw)
+
+
+def test_bug_the_plans_last_segment_sets_the_heading_at_the_goal_without_goal_align():
+    # The grid's last segment (cell centre to goal) points anywhere: here 90° off the goal's
+    # yaw. Without goal_align it is the desired heading at the end of the plan.
+    end = straight(np.array([[1.5, 1.45]]), start=(0.5, 1.45), yaw=0.0)
+    assert HeadingCritic().score(end, _hooked_plan_ctx()).cost[0] == pytest.approx(np.pi / 2)
+    # goal_align: the plan ends at the goal's pose, so facing the goal's yaw costs nothing
+    aligned = HeadingCritic(goal_align=True)
+    assert aligned.score(end, _hooked_plan_ctx()).cost[0] == pytest.approx(0.0, abs=1e-9)
+    up = straight(np.array([[1.5, 1.45]]), start=(0.5, 1.45), yaw=np.pi / 2)
+    assert aligned.score(up, _hooked_plan_ctx()).cost[0] == pytest.approx(np.pi / 2)
+
+
+def test_goal_align_scores_the_goals_yaw_near_the_goal():
+    ctx = _hooked_plan_ctx(pose=(1.2, 1.45, 0.0))  # 0.3 m from the goal: inside near_goal
+    tr = straight(np.array([[1.5, 1.5]] * 3), start=(1.2, 1.45))
+    poses = tr.poses.copy()
+    poses[:, -1, 2] = [0.0, 0.5, -2.0 * np.pi + 0.25]
+    tr = Trajectories(tr.twists, poses, tr.t)
+    np.testing.assert_array_equal(HeadingCritic().score(tr, ctx).cost, [0.0, 0.0, 0.0])
+    np.testing.assert_allclose(
+        HeadingCritic(goal_align=True).score(tr, ctx).cost, [0.0, 0.5, 0.25], atol=1e-9
+    )
+
+
+def test_goal_align_leaves_a_waypoint_the_robot_passes_through_alone():
+    from socialnav.social.goals import SocialGoal
+
+    waypoint = SocialGoal(np.array([1.5, 1.5, 0.0]), "waypoint", is_waypoint=True)
+    near = _hooked_plan_ctx(pose=(1.2, 1.45, 0.0), social_goal=waypoint)
+    tr = straight(np.array([[1.5, 1.5]]), start=(1.2, 1.45), yaw=1.0)
+    assert HeadingCritic(goal_align=True).score(tr, near).cost[0] == 0.0
+    far = _hooked_plan_ctx(social_goal=waypoint)
+    end = straight(np.array([[1.5, 1.45]]), start=(0.5, 1.45), yaw=0.0)
+    assert HeadingCritic(goal_align=True).score(end, far).cost[0] == pytest.approx(np.pi / 2)
+
+
+def test_goal_align_keeps_the_plans_tangent_when_the_plan_stops_short_of_the_goal():
+    # A plan ending at a substitute cell (goal blocked, navfn's tolerance) ends no pose.
+    path = np.array([[0.5, 1.45], [1.5, 1.45], [1.5, 1.5]])
+    ctx = context(blank(60, 60), TINY, pose=(0.5, 1.45, 0.0), path=path, goal=(1.5, 1.7, 0.0))
+    end = straight(np.array([[1.5, 1.45]]), start=(0.5, 1.45), yaw=0.0)
+    assert HeadingCritic(goal_align=True).score(end, ctx).cost[0] == pytest.approx(np.pi / 2)
+
+
 @pytest.mark.parametrize(
     "critic", [PathDistanceCritic(), GoalDistanceCritic(), OccupancyCritic(), HeadingCritic()]
 )

@@ -46,6 +46,15 @@ class PlanningContext:
     time: float = 0.0
     cache: CycleCache = field(default_factory=CycleCache, compare=False, repr=False)
 
+    def steers_to_waypoint(self) -> bool:
+        """The cycle steers to a social waypoint the robot passes through, not a goal it stops
+        at (``SocialGoal.is_waypoint`` at ``goal``): its yaw and tolerance do not stand for the
+        real end pose."""
+        sg = self.social_goal
+        if sg is None or not getattr(sg, "is_waypoint", False):
+            return False
+        return bool(np.allclose(np.asarray(sg.pose, dtype=float)[:2], self.goal[:2]))
+
     def people_at(self, t: FloatArray) -> FloatArray:
         """People positions ``(T, K, 2)`` at times ``t (T,)`` seconds from now."""
         positions = self.social.positions()

@@ -110,7 +110,9 @@ class LocalPlannerParams:
     ``arrival_time_scale`` s⁻¹), ``goal_distance_measure`` (``bfs``: ROS ``GoalCostFunction``,
     the free-space BFS distance to the local goal; ``along_plan``: the plan's length still to
     go, :mod:`~socialnav.planner.critics.plan_progress`, legality unchanged),
-    ``footprint_check`` and ``rollout_dtype``. ``ConfigurationError`` on a value out of range.
+    ``heading_goal_align`` (the heading critic's ``goal_align``: a holonomic base aligns with
+    the goal's yaw on the way in, Nav2 MPPI ``GoalAngleCritic``), ``footprint_check`` and
+    ``rollout_dtype``. ``ConfigurationError`` on a value out of range.
     """
 
     # sampling (dynamic window, DWA mode)
@@ -144,6 +146,9 @@ class LocalPlannerParams:
     occdist_scale: float = 0.01
     heading_scale: float = 0.2
     heading_lookahead: float = 0.325
+    # the heading critic's goal alignment (critics.heading, ``goal_align``): the plan ends at
+    # the goal's yaw, and near the goal the heading is scored against it
+    heading_goal_align: bool = False
     footprint_check: bool = True
     rollout_dtype: str = "float64"  # "float32" is ~1.5x faster for large batches
     # oscillation
@@ -179,16 +184,6 @@ class LocalPlannerParams:
             value = getattr(self, name)
             if not (np.isfinite(value) and value >= 0):
                 raise ConfigurationError(f"{name} must be finite and >= 0, got {value}")
-
-
-def _passing_waypoint(ctx: PlanningContext) -> bool:
-    """The cycle steers to a social waypoint the robot passes through, not a goal it stops at:
-    arrival there must not stand for the real end points (its tolerance is 0.5 m, and the real
-    poses matter to the social critics)."""
-    sg = ctx.social_goal
-    if sg is None or not getattr(sg, "is_waypoint", False):
-        return False
-    return bool(np.allclose(np.asarray(sg.pose, dtype=float)[:2], ctx.goal[:2]))
 
 
 def turn_clearance(
@@ -250,7 +245,10 @@ def traditional_objectives(params: LocalPlannerParams | None = None) -> tuple[Ob
         (PathDistanceCritic(), p.path_distance_bias),
         (goal, p.goal_distance_bias),
         (OccupancyCritic(footprint=p.footprint_check), p.occdist_scale),
-        (HeadingCritic(heading_lookahead=p.heading_lookahead), p.heading_scale),
+        (
+            HeadingCritic(heading_lookahead=p.heading_lookahead, goal_align=p.heading_goal_align),
+            p.heading_scale,
+        ),
     )
     if p.stop_at_goal:  # arriving rollouts tie on path and goal distance: the first one wins
         terms += ((ArrivalTimeCritic(), p.arrival_time_scale),)
@@ -580,7 +578,9 @@ class LocalPlanner:
         trajs = rollout(
             ctx.pose, ctx.velocity, twists, self.robot, p, dtype=np.dtype(p.rollout_dtype).type
         )
-        if p.stop_at_goal and not _passing_waypoint(ctx):
+        # Arrival at a waypoint must not stand for the real end points (its tolerance is 0.5 m,
+        # and the real poses matter to the social critics).
+        if p.stop_at_goal and not ctx.steers_to_waypoint():
             trajs = stop_at_goal(trajs, ctx.goal, self._tolerances(ctx)[0])
         t2 = time.perf_counter()
         t["rollout"] = t2 - t1

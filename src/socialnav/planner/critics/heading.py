@@ -16,8 +16,17 @@ Near the goal (the robot within ``near_goal`` m of it) the cost is 0: the plan's
 point in arbitrary directions there, and chasing them made the robot dither short of the goal
 (the "oscillation at the goal" users report); Nav2 likewise drops its alignment critics near the
 goal, and the goal-handling stage turns the robot to the goal yaw.
-Only the first ``horizon`` m of the plan are searched (the planner's reach + 2 m), so a plan that
-loops back near the robot does not confuse the nearest-vertex search.
+
+With ``goal_align`` (off in ROS; on in the ``paccet`` preset), for a holonomic base, the goal's
+yaw takes the place of those cells: the tangent at the plan's last vertex, where the plan ends
+at the goal, is the goal's yaw (a plan ends at a pose, as Nav2's do; the grid's last segment
+points anywhere), and near the goal the cost is ``|wrap(yaw − goal yaw)|`` (Nav2 MPPI
+``GoalAngleCritic``, whose ``threshold_to_consider`` is 0.5 m too). The base then turns to the
+goal's yaw while it drives in instead of turning in place after arriving. Not at a social
+waypoint the robot passes through (``steers_to_waypoint``): its yaw is not an end pose. Not for
+a differential drive, which can only turn while it drives by bending its path: in the recorded
+crowds that cost the Pioneer time and successes (measurements at
+``presets.RECOMMENDED_PARAMS``).
 """
 
 from __future__ import annotations
@@ -42,7 +51,8 @@ if TYPE_CHECKING:
 @dataclass(frozen=True)
 class HeadingCritic(Critic):
     """``heading_lookahead`` (m) along the plan; ``spacing`` (m) of the densified plan;
-    ``near_goal`` (m): no heading cost within this distance of the goal."""
+    ``near_goal`` (m): no heading cost within this distance of the goal, or with ``goal_align``
+    the heading error to the goal's yaw."""
 
     name: ClassVar[str] = "heading"
     unit: ClassVar[str] = "rad"
@@ -50,10 +60,14 @@ class HeadingCritic(Critic):
     heading_lookahead: float = 0.325
     spacing: float = 0.05
     near_goal: float = 0.5
+    goal_align: bool = False
 
     def __post_init__(self) -> None:
         if not (self.heading_lookahead > 0 and self.spacing > 0):
             raise ValueError("heading_lookahead and spacing must be positive")
+
+    def _aligns(self, ctx: PlanningContext) -> bool:
+        return self.goal_align and ctx.robot.holonomic and not ctx.steers_to_waypoint()
 
     def prepare(self, ctx: PlanningContext) -> None:
         """Densify the plan near the robot and its tangents (per cycle)."""
@@ -83,11 +97,16 @@ class HeadingCritic(Critic):
             tangent = np.concatenate([seg[:1], seg])
         else:
             tangent = np.array([float(ctx.goal[2])])
+        if self._aligns(ctx) and np.hypot(*(dense[-1] - ctx.goal[:2])) <= self.spacing:
+            tangent[-1] = float(ctx.goal[2])
         ctx.cache.heading_plan = HeadingPlan(dense, s, tangent)
 
     def score(self, trajs: Trajectories, ctx: PlanningContext) -> CriticScore:
         """Heading error (rad) ``(N,)`` of each end pose against the plan ahead."""
         if np.hypot(*(np.asarray(ctx.pose[:2]) - np.asarray(ctx.goal[:2]))) < self.near_goal:
+            if self._aligns(ctx):
+                yaw = trajs.poses[:, -1, 2].astype(float)
+                return CriticScore(np.abs(wrap_angle(yaw - float(ctx.goal[2]))))
             return CriticScore(np.zeros(len(trajs)))
         plan = ctx.cache.heading_plan
         if plan is None:
