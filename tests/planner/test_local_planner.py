@@ -235,6 +235,17 @@ def test_params_validation():
     ]
 
 
+@pytest.mark.parametrize(
+    "name", ["latch_xy_goal_tolerance", "stop_at_goal", "heading_goal_align", "footprint_check"]
+)
+@pytest.mark.parametrize("value", ["no", "False", 1, 0, None])
+def test_bool_params_refuse_other_types(name, value):
+    # "no" used to switch heading_goal_align on (newcomer trial): a truthy string.
+    with pytest.raises(ConfigurationError, match=name):
+        LocalPlannerParams(**{name: value})
+    LocalPlannerParams(**{name: np.bool_(True)})  # NumPy's bool is a bool
+
+
 def test_clearance_rays():
     cm = blank(80, 80)
     costs = cm.costs.copy()

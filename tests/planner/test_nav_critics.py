@@ -293,54 +293,81 @@ def test_heading_near_the_end_uses_the_tangent():
     assert HeadingCritic().score(tr, ctx).cost[0] == pytest.approx(0.0, abs=1e-9)
 
 
-def _hooked_plan_ctx(pose=(0.5, 1.45, 0.0), **kw):
-    """A plan whose last grid segment turns 90° (up) onto a goal that faces +x."""
+def _hooked_plan_ctx(pose=(0.5, 1.45, 0.0), reach=None, robot=TINY, goal_yaw=0.0, **kw):
+    """A plan whose last grid segment turns 90° (up) onto a goal at (1.5, 1.5, ``goal_yaw``);
+    ``reach``: the metres the cycle's rollouts can travel (``ctx.cache.reach``)."""
     path = np.array([[0.5, 1.45], [1.5, 1.45], [1.5, 1.5]])
-    return context(blank(60, 60), TINY, pose=pose, path=path, goal=(1.5, 1.5, 0.0), **kw)
+    ctx = context(blank(60, 60), robot, pose=pose, path=path, goal=(1.5, 1.5, goal_yaw), **kw)
+    ctx.cache.reach = reach
+    return ctx
+
+
+def _ending(ends, start, yaws):
+    """Straight rollouts from ``start`` to ``ends (N, 2)`` with end yaws ``yaws (N,)``."""
+    tr = straight(np.asarray(ends, dtype=float), start=start)
+    poses = tr.poses.copy()
+    poses[:, -1, 2] = yaws
+    return Trajectories(tr.twists, poses, tr.t)
 
 
 def test_bug_the_plans_last_segment_sets_the_heading_at_the_goal_without_goal_align():
     # The grid's last segment (cell centre to goal) points anywhere: here 90° off the goal's
-    # yaw. Without goal_align it is the desired heading at the end of the plan.
-    end = straight(np.array([[1.5, 1.45]]), start=(0.5, 1.45), yaw=0.0)
-    assert HeadingCritic().score(end, _hooked_plan_ctx()).cost[0] == pytest.approx(np.pi / 2)
-    # goal_align: the plan ends at the goal's pose, so facing the goal's yaw costs nothing
+    # yaw. Without goal_align it is the desired heading of a rollout ending at the plan's end
+    # (dev crowdnav_visible seed 1: it turned the PR2 1.4 rad away from the goal's yaw).
+    end = _ending([[1.5, 1.45]], (0.5, 1.45), [0.0])
+    assert HeadingCritic().score(end, _hooked_plan_ctx(reach=1.2)).cost[0] == pytest.approx(
+        np.pi / 2
+    )
+    # goal_align, the goal 1.0 m away within the rollouts' 1.2 m reach: the goal's yaw counts
     aligned = HeadingCritic(goal_align=True)
-    assert aligned.score(end, _hooked_plan_ctx()).cost[0] == pytest.approx(0.0, abs=1e-9)
-    up = straight(np.array([[1.5, 1.45]]), start=(0.5, 1.45), yaw=np.pi / 2)
-    assert aligned.score(up, _hooked_plan_ctx()).cost[0] == pytest.approx(np.pi / 2)
-
-
-def test_goal_align_scores_the_goals_yaw_near_the_goal():
-    ctx = _hooked_plan_ctx(pose=(1.2, 1.45, 0.0))  # 0.3 m from the goal: inside near_goal
-    tr = straight(np.array([[1.5, 1.5]] * 3), start=(1.2, 1.45))
-    poses = tr.poses.copy()
-    poses[:, -1, 2] = [0.0, 0.5, -2.0 * np.pi + 0.25]
-    tr = Trajectories(tr.twists, poses, tr.t)
-    np.testing.assert_array_equal(HeadingCritic().score(tr, ctx).cost, [0.0, 0.0, 0.0])
     np.testing.assert_allclose(
-        HeadingCritic(goal_align=True).score(tr, ctx).cost, [0.0, 0.5, 0.25], atol=1e-9
+        aligned.score(
+            _ending([[1.5, 1.45]] * 2, (0.5, 1.45), [0.0, np.pi / 2]), _hooked_plan_ctx(reach=1.2)
+        ).cost,
+        [0.0, np.pi / 2],
+        atol=1e-9,
     )
 
 
-def test_goal_align_leaves_a_waypoint_the_robot_passes_through_alone():
+def test_goal_align_scores_every_rollout_of_the_cycle_alike_so_none_gains_by_stopping_short():
+    # A goal facing back the way the robot came. Judging only the rollouts that reach the
+    # plan's end by the goal's yaw made a PR2 slow down 1 m out (newcomer trial): the one
+    # stopping short kept the plan's direction and cost nothing.
+    ctx = _hooked_plan_ctx(reach=1.2, goal_yaw=np.pi)
+    tr = _ending([[1.0, 1.45], [1.5, 1.45], [1.5, 1.5]], (0.5, 1.45), [0.0, 0.0, 0.0])
+    np.testing.assert_allclose(HeadingCritic(goal_align=True).score(tr, ctx).cost, np.pi)
+
+
+def test_goal_align_scores_the_goals_yaw_near_the_goal_and_the_plans_beyond_reach():
+    near = _hooked_plan_ctx(pose=(1.2, 1.45, 0.0))  # 0.3 m from the goal: inside near_goal
+    tr = _ending([[1.5, 1.5]] * 3, (1.2, 1.45), [0.0, 0.5, -2.0 * np.pi + 0.25])
+    np.testing.assert_array_equal(HeadingCritic().score(tr, near).cost, [0.0, 0.0, 0.0])
+    np.testing.assert_allclose(
+        HeadingCritic(goal_align=True).score(tr, near).cost, [0.0, 0.5, 0.25], atol=1e-9
+    )
+    # 1.0 m from the goal, rollouts reaching 0.8 m: the plan's heading as without goal_align
+    far = _hooked_plan_ctx(reach=0.8)
+    ends = _ending([[1.0, 1.45], [1.0, 1.45]], (0.5, 1.45), [0.0, 1.0])
+    np.testing.assert_array_equal(
+        HeadingCritic(goal_align=True).score(ends, far).cost, HeadingCritic().score(ends, far).cost
+    )
+
+
+def test_goal_align_leaves_a_differential_drive_and_a_waypoint_alone():
     from socialnav.social.goals import SocialGoal
 
+    tr = _ending([[1.5, 1.5]], (1.2, 1.45), [1.0])
+    pioneer = _hooked_plan_ctx(pose=(1.2, 1.45, 0.0), robot=PIONEER)
+    assert HeadingCritic(goal_align=True).score(tr, pioneer).cost[0] == 0.0
     waypoint = SocialGoal(np.array([1.5, 1.5, 0.0]), "waypoint", is_waypoint=True)
     near = _hooked_plan_ctx(pose=(1.2, 1.45, 0.0), social_goal=waypoint)
-    tr = straight(np.array([[1.5, 1.5]]), start=(1.2, 1.45), yaw=1.0)
     assert HeadingCritic(goal_align=True).score(tr, near).cost[0] == 0.0
-    far = _hooked_plan_ctx(social_goal=waypoint)
-    end = straight(np.array([[1.5, 1.45]]), start=(0.5, 1.45), yaw=0.0)
-    assert HeadingCritic(goal_align=True).score(end, far).cost[0] == pytest.approx(np.pi / 2)
 
 
-def test_goal_align_keeps_the_plans_tangent_when_the_plan_stops_short_of_the_goal():
-    # A plan ending at a substitute cell (goal blocked, navfn's tolerance) ends no pose.
-    path = np.array([[0.5, 1.45], [1.5, 1.45], [1.5, 1.5]])
-    ctx = context(blank(60, 60), TINY, pose=(0.5, 1.45, 0.0), path=path, goal=(1.5, 1.7, 0.0))
-    end = straight(np.array([[1.5, 1.45]]), start=(0.5, 1.45), yaw=0.0)
-    assert HeadingCritic(goal_align=True).score(end, ctx).cost[0] == pytest.approx(np.pi / 2)
+@pytest.mark.parametrize("value", ["no", "False", 1, 0, None, 2.5])
+def test_goal_align_must_be_a_bool(value):
+    with pytest.raises(ValueError, match="goal_align"):
+        HeadingCritic(goal_align=value)
 
 
 @pytest.mark.parametrize(

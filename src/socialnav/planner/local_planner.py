@@ -146,8 +146,9 @@ class LocalPlannerParams:
     occdist_scale: float = 0.01
     heading_scale: float = 0.2
     heading_lookahead: float = 0.325
-    # the heading critic's goal alignment (critics.heading, ``goal_align``): the plan ends at
-    # the goal's yaw, and near the goal the heading is scored against it
+    # the heading critic's goal alignment (critics.heading, ``goal_align``): a holonomic base
+    # is scored against the goal's yaw within its reach of the goal (ignored for a differential
+    # drive and at a social waypoint)
     heading_goal_align: bool = False
     footprint_check: bool = True
     rollout_dtype: str = "float64"  # "float32" is ~1.5x faster for large batches
@@ -166,6 +167,14 @@ class LocalPlannerParams:
                 "goal_distance_measure must be bfs or along_plan, "
                 f"got {self.goal_distance_measure!r}"
             )
+        for name in (
+            "latch_xy_goal_tolerance",
+            "stop_at_goal",
+            "heading_goal_align",
+            "footprint_check",
+        ):
+            if not isinstance(getattr(self, name), bool | np.bool_):
+                raise ConfigurationError(f"{name} must be a bool, got {getattr(self, name)!r}")
         if self.rollout_dtype not in ("float64", "float32"):
             raise ConfigurationError(
                 f"rollout_dtype must be float64 or float32, got {self.rollout_dtype!r}"

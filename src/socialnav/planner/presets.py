@@ -284,16 +284,20 @@ RECOMMENDED_SPOT_TOLERANCE = (0.07, 0.15)
 #: (+2.9 % over traditional). Legality stays the goal distance's (``unreachable``): without
 #: it the robot crept up to a person blocking a 1 m corridor instead of waiting.
 #: A holonomic base turns to the goal's yaw on the way in (``heading_goal_align``,
-#: ``critics.heading``): the plan's last grid segment had turned the PR2 up to 1.4 rad away
-#: from it in the last metre, then it turned in place for up to 2.4 s. Generated dev seeds
-#: 0–39, every family, PR2: passes 357 → 357, collision runs 1 → 1; the turn in place at the
-#: goal 0.0–0.7 s instead of 1.0–2.4 s per family, so the episode until ``GOAL_REACHED`` ends
-#: 0.8–2.3 s sooner; time to goal (the xy tolerance held) −0.04 to +0.05 s. Recorded crowds dev
-#: 0–89, PR2: 180 successes, 0 active- and 51 passive-contact episodes as before, time within
-#: 1.2 m 6.40 → 6.27 s, path ratio 1.32 → 1.32. Measured for the Pioneer too and not kept:
-#: generated dev passes 357 → 357 with its turn in place 0.4–0.7 s shorter, but recorded
-#: crowds dev successes 179 → 177, active-contact episodes 0 → 1, time to goal 27.9 → 28.9 s
-#: (it bends its path to turn). Paper suite 34/34, Table 1 unchanged.
+#: ``critics.heading``): once the goal is within its rollouts' reach, every rollout's heading
+#: is scored against the goal's yaw. Before, the plan's last grid segment had turned the PR2 up
+#: to 1.4 rad away from it in the last metre, then it turned in place for up to 2.4 s.
+#: Generated dev seeds 0–39, every family, PR2: passes 357 → 357, collision runs 1 → 1; the
+#: turn in place at the goal 0.0–0.7 s instead of 1.0–2.4 s per family, so the episode until
+#: ``GOAL_REACHED`` ends 0.8–2.4 s sooner; time to goal (the xy tolerance held) −0.07 to
+#: +0.05 s. Recorded crowds dev 0–89, PR2: 180 successes and 0 active-contact episodes as
+#: before, passive 51 → 50, time within 1.2 m 6.40 → 6.18 s, path ratio 1.32 → 1.32. A first
+#: version (the goal's yaw as the plan's last tangent, and within 0.5 m only) slowed a PR2
+#: down 1 m short of a goal facing back the way it came (newcomer trial): only the rollouts
+#: reaching the plan's end were judged by the goal's yaw. Measured for the Pioneer too and
+#: not kept: generated dev passes 357 → 357 with its turn in place 0.4–0.7 s shorter, but
+#: recorded crowds dev successes 179 → 177, active-contact episodes 0 → 1, time to goal
+#: 27.9 → 28.9 s (it bends its path to turn). Paper suite 34/34, Table 1 unchanged.
 RECOMMENDED_PARAMS = LocalPlannerParams(
     stop_at_goal=True,
     xy_goal_tolerance=0.07,
@@ -906,6 +910,14 @@ def personal_space_layer(
 #: 112 (meeting layer without hysteresis: 340, 10, 106), the path length ratio from 1.44 to
 #: 1.52 (1.48), for 0.4 s less within 1.2 m; with a 5 s horizon 342, 8 and 107, path length
 #: ratio 1.51. Still off.
+#: Measured again with the detour limit and the contact guard (generated dev seeds 0–39 of
+#: crowdnav, crowdnav_visible, hallway and mixed, both robots; recorded crowds dev 0–89): the
+#: meeting layer alone gave passes 315 → 313 of 320 (hallway 77 → 74; crowdnav PR2 +1 with
+#: one collision run fewer), mean time ratios to hl Pioneer/PR2 crowdnav 1.26/1.18 →
+#: 1.27/1.22, crowdnav_visible 1.31/1.25 → 1.34/1.25, mixed 1.51/1.40 → 1.49/1.31; crowds
+#: 359 → 357 successes, active-contact episodes 0 → 3 (all Pioneer), passive 113 → 111, time
+#: within 1.2 m 6.44 → 6.49 s. With replan hysteresis 0.3 as well: 315 → 314 passes, mixed
+#: 1.66/1.32, crowds 355 successes, 2 active, 118 passive, path ratio 1.31 → 1.36. Still off.
 MEETING_LAYER = {
     "speed_fraction": 0.8,
     "min_speed": 0.3,

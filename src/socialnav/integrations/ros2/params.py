@@ -113,7 +113,11 @@ _PLANNER: dict[str, tuple[float | None, float | None, str]] = {
     "occdist_scale": (0.0, 100.0, "weight of the costmap cost along the trajectory"),
     "heading_scale": (0.0, 100.0, "weight of the heading error to the path ahead, per rad"),
     "heading_lookahead": (0.0, 5.0, "m, how far along the path the heading critic looks"),
-    "heading_goal_align": (None, None, "align with the goal's yaw on the way in (Nav2 MPPI)"),
+    "heading_goal_align": (
+        None,
+        None,
+        "holonomic bases only: turn to the goal's yaw on the way in, within reach of the goal",
+    ),
     "footprint_check": (None, None, "check the footprint polygon, not only its centre"),
     "rollout_dtype": (None, None, "float64 or float32 rollouts (float32 ~1.5x faster)"),
     "oscillation_reset_dist": (0.0, 5.0, "m, motion that clears the oscillation guard"),

@@ -17,14 +17,17 @@ point in arbitrary directions there, and chasing them made the robot dither shor
 (the "oscillation at the goal" users report); Nav2 likewise drops its alignment critics near the
 goal, and the goal-handling stage turns the robot to the goal yaw.
 
-With ``goal_align`` (off in ROS; on in the ``paccet`` preset), for a holonomic base, the goal's
-yaw takes the place of those cells: the tangent at the plan's last vertex, where the plan ends
-at the goal, is the goal's yaw (a plan ends at a pose, as Nav2's do; the grid's last segment
-points anywhere), and near the goal the cost is ``|wrap(yaw − goal yaw)|`` (Nav2 MPPI
-``GoalAngleCritic``, whose ``threshold_to_consider`` is 0.5 m too). The base then turns to the
-goal's yaw while it drives in instead of turning in place after arriving. Not at a social
-waypoint the robot passes through (``steers_to_waypoint``): its yaw is not an end pose. Not for
-a differential drive, which can only turn while it drives by bending its path: in the recorded
+With ``goal_align`` (off in ROS; on in the ``paccet`` preset), a holonomic base is scored
+against the goal's yaw instead, ``|wrap(yaw − goal yaw)|``, once the goal is within its reach:
+the robot within ``near_goal`` m or within the metres its rollouts can travel this cycle
+(``ctx.cache.reach``) of the goal (Nav2 MPPI ``GoalAngleCritic``, whose ``threshold_to_consider``
+is 0.5 m). The base then turns to the goal's yaw while it drives in instead of turning in place
+after arriving. Every rollout of the cycle is scored the same way: judging only those that end
+at the plan's end by the goal's yaw made a PR2 slow down short of a goal facing back the way it
+came, and judging them by the plan's last grid segment (cell centre to goal, pointing anywhere)
+had turned it up to 1.4 rad away from the goal's yaw in the last metre. Not at a social waypoint
+the robot passes through (``steers_to_waypoint``): its yaw is not an end pose. Not for a
+differential drive, which can only turn while it drives by bending its path: in the recorded
 crowds that cost the Pioneer time and successes (measurements at
 ``presets.RECOMMENDED_PARAMS``).
 """
@@ -51,8 +54,10 @@ if TYPE_CHECKING:
 @dataclass(frozen=True)
 class HeadingCritic(Critic):
     """``heading_lookahead`` (m) along the plan; ``spacing`` (m) of the densified plan;
-    ``near_goal`` (m): no heading cost within this distance of the goal, or with ``goal_align``
-    the heading error to the goal's yaw."""
+    ``near_goal`` (m): no heading cost within this distance of the goal; ``goal_align``: a
+    holonomic base is scored against the goal's yaw within its reach of the goal (module
+    docstring; ignored for a differential drive and at a social waypoint). ``ValueError`` on a
+    non-positive length or a non-bool ``goal_align``."""
 
     name: ClassVar[str] = "heading"
     unit: ClassVar[str] = "rad"
@@ -65,6 +70,8 @@ class HeadingCritic(Critic):
     def __post_init__(self) -> None:
         if not (self.heading_lookahead > 0 and self.spacing > 0):
             raise ValueError("heading_lookahead and spacing must be positive")
+        if not isinstance(self.goal_align, bool | np.bool_):
+            raise ValueError(f"goal_align must be a bool, got {self.goal_align!r}")
 
     def _aligns(self, ctx: PlanningContext) -> bool:
         return self.goal_align and ctx.robot.holonomic and not ctx.steers_to_waypoint()
@@ -97,16 +104,15 @@ class HeadingCritic(Critic):
             tangent = np.concatenate([seg[:1], seg])
         else:
             tangent = np.array([float(ctx.goal[2])])
-        if self._aligns(ctx) and np.hypot(*(dense[-1] - ctx.goal[:2])) <= self.spacing:
-            tangent[-1] = float(ctx.goal[2])
         ctx.cache.heading_plan = HeadingPlan(dense, s, tangent)
 
     def score(self, trajs: Trajectories, ctx: PlanningContext) -> CriticScore:
         """Heading error (rad) ``(N,)`` of each end pose against the plan ahead."""
-        if np.hypot(*(np.asarray(ctx.pose[:2]) - np.asarray(ctx.goal[:2]))) < self.near_goal:
-            if self._aligns(ctx):
-                yaw = trajs.poses[:, -1, 2].astype(float)
-                return CriticScore(np.abs(wrap_angle(yaw - float(ctx.goal[2]))))
+        to_goal = float(np.hypot(*(np.asarray(ctx.pose[:2]) - np.asarray(ctx.goal[:2]))))
+        if self._aligns(ctx) and to_goal < max(self.near_goal, ctx.cache.reach or 0.0):
+            yaw = trajs.poses[:, -1, 2].astype(float)
+            return CriticScore(np.abs(wrap_angle(yaw - float(ctx.goal[2]))))
+        if to_goal < self.near_goal:
             return CriticScore(np.zeros(len(trajs)))
         plan = ctx.cache.heading_plan
         if plan is None:
