@@ -243,7 +243,8 @@ def test_bool_params_refuse_other_types(name, value):
     # "no" used to switch heading_goal_align on (newcomer trial): a truthy string.
     with pytest.raises(ConfigurationError, match=name):
         LocalPlannerParams(**{name: value})
-    LocalPlannerParams(**{name: np.bool_(True)})  # NumPy's bool is a bool
+    # NumPy's bool is a bool, stored as Python's (a NumPy bool broke the ROS parameter table)
+    assert getattr(LocalPlannerParams(**{name: np.bool_(True)}), name) is True
 
 
 def test_clearance_rays():

@@ -368,6 +368,7 @@ def test_goal_align_leaves_a_differential_drive_and_a_waypoint_alone():
 def test_goal_align_must_be_a_bool(value):
     with pytest.raises(ValueError, match="goal_align"):
         HeadingCritic(goal_align=value)
+    assert HeadingCritic(goal_align=np.bool_(True)).goal_align is True
 
 
 @pytest.mark.parametrize(

@@ -112,7 +112,8 @@ class LocalPlannerParams:
     go, :mod:`~socialnav.planner.critics.plan_progress`, legality unchanged),
     ``heading_goal_align`` (the heading critic's ``goal_align``: a holonomic base aligns with
     the goal's yaw on the way in, Nav2 MPPI ``GoalAngleCritic``), ``footprint_check`` and
-    ``rollout_dtype``. ``ConfigurationError`` on a value out of range.
+    ``rollout_dtype``. ``ConfigurationError`` on a value out of range or a bool field given
+    anything but a bool (NumPy's included, stored as Python's).
     """
 
     # sampling (dynamic window, DWA mode)
@@ -173,8 +174,10 @@ class LocalPlannerParams:
             "heading_goal_align",
             "footprint_check",
         ):
-            if not isinstance(getattr(self, name), bool | np.bool_):
-                raise ConfigurationError(f"{name} must be a bool, got {getattr(self, name)!r}")
+            value = getattr(self, name)
+            if not isinstance(value, bool | np.bool_):
+                raise ConfigurationError(f"{name} must be a bool, got {value!r}")
+            object.__setattr__(self, name, bool(value))  # NumPy's bool as Python's (JSON, ROS)
         if self.rollout_dtype not in ("float64", "float32"):
             raise ConfigurationError(
                 f"rollout_dtype must be float64 or float32, got {self.rollout_dtype!r}"

@@ -21,11 +21,12 @@ With ``goal_align`` (off in ROS; on in the ``paccet`` preset), a holonomic base 
 against the goal's yaw instead, ``|wrap(yaw − goal yaw)|``, once the goal is within its reach:
 the robot within ``near_goal`` m or within the metres its rollouts can travel this cycle
 (``ctx.cache.reach``) of the goal (Nav2 MPPI ``GoalAngleCritic``, whose ``threshold_to_consider``
-is 0.5 m). The base then turns to the goal's yaw while it drives in instead of turning in place
-after arriving. Every rollout of the cycle is scored the same way: judging only those that end
-at the plan's end by the goal's yaw made a PR2 slow down short of a goal facing back the way it
-came, and judging them by the plan's last grid segment (cell centre to goal, pointing anywhere)
-had turned it up to 1.4 rad away from the goal's yaw in the last metre. Not at a social waypoint
+is 0.5 m). The base then turns to the goal's yaw while it drives in, and turns in place after
+arriving only for what is left (most of the turn for a goal facing back the way it came).
+Every rollout of the cycle is scored the same way: judging only those that end at the plan's
+end by the goal's yaw made a PR2 slow down short of a goal facing back the way it came, and
+judging them by the plan's last grid segment (cell centre to goal, pointing anywhere) had
+turned it up to 1.4 rad away from the goal's yaw in the last metre. Not at a social waypoint
 the robot passes through (``steers_to_waypoint``): its yaw is not an end pose. Not for a
 differential drive, which can only turn while it drives by bending its path: in the recorded
 crowds that cost the Pioneer time and successes (measurements at
@@ -72,6 +73,7 @@ class HeadingCritic(Critic):
             raise ValueError("heading_lookahead and spacing must be positive")
         if not isinstance(self.goal_align, bool | np.bool_):
             raise ValueError(f"goal_align must be a bool, got {self.goal_align!r}")
+        object.__setattr__(self, "goal_align", bool(self.goal_align))
 
     def _aligns(self, ctx: PlanningContext) -> bool:
         return self.goal_align and ctx.robot.holonomic and not ctx.steers_to_waypoint()
