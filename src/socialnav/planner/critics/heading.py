@@ -31,6 +31,9 @@ the robot passes through (``steers_to_waypoint``): its yaw is not an end pose. N
 differential drive, which can only turn while it drives by bending its path: in the recorded
 crowds that cost the Pioneer time and successes (measurements at
 ``presets.RECOMMENDED_PARAMS``).
+
+Only the first ``horizon`` m of the plan are searched (the planner's reach + 2 m), so a plan that
+loops back near the robot does not confuse the nearest-vertex search.
 """
 
 from __future__ import annotations
@@ -109,7 +112,8 @@ class HeadingCritic(Critic):
         ctx.cache.heading_plan = HeadingPlan(dense, s, tangent)
 
     def score(self, trajs: Trajectories, ctx: PlanningContext) -> CriticScore:
-        """Heading error (rad) ``(N,)`` of each end pose against the plan ahead."""
+        """Heading error (rad) ``(N,)`` of each end pose against the plan ahead (with
+        ``goal_align``, within reach of the goal, against the goal's yaw)."""
         to_goal = float(np.hypot(*(np.asarray(ctx.pose[:2]) - np.asarray(ctx.goal[:2]))))
         if self._aligns(ctx) and to_goal < max(self.near_goal, ctx.cache.reach or 0.0):
             yaw = trajs.poses[:, -1, 2].astype(float)
