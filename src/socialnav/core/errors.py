@@ -6,6 +6,8 @@ from collections.abc import Mapping
 from numbers import Real
 from typing import Any, TypeVar
 
+import numpy as np
+
 T = TypeVar("T")
 
 
@@ -28,6 +30,16 @@ def is_non_negative_number(value: object) -> bool:
     if isinstance(value, bool) or not isinstance(value, Real):
         return False
     return math.isfinite(value) and float(value) >= 0
+
+
+def checked_bool(value: object, name: str) -> bool:
+    """``value`` as a Python ``bool`` when it is a bool (NumPy's included: stored as Python's, it
+    serializes to JSON and declares as a ROS 2 bool parameter). Raises ``ConfigurationError``
+    naming ``name`` for anything else (a truthy string such as ``"no"`` must not switch a
+    feature on)."""
+    if not isinstance(value, bool | np.bool_):
+        raise ConfigurationError(f"{name} must be a bool, got {value!r}")
+    return bool(value)
 
 
 def with_overrides(base: T, overrides: T | Mapping[str, Any] | None, what: str) -> T:

@@ -37,7 +37,7 @@ from typing import Protocol
 
 import numpy as np
 
-from socialnav.core.errors import ConfigurationError
+from socialnav.core.errors import ConfigurationError, checked_bool
 from socialnav.core.geometry import FloatArray, wrap_angle
 from socialnav.core.robot import RobotModel
 from socialnav.core.trajectories import Trajectories
@@ -174,10 +174,7 @@ class LocalPlannerParams:
             "heading_goal_align",
             "footprint_check",
         ):
-            value = getattr(self, name)
-            if not isinstance(value, bool | np.bool_):
-                raise ConfigurationError(f"{name} must be a bool, got {value!r}")
-            object.__setattr__(self, name, bool(value))  # NumPy's bool as Python's (JSON, ROS)
+            object.__setattr__(self, name, checked_bool(getattr(self, name), name))
         if self.rollout_dtype not in ("float64", "float32"):
             raise ConfigurationError(
                 f"rollout_dtype must be float64 or float32, got {self.rollout_dtype!r}"

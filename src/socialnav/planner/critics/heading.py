@@ -43,6 +43,7 @@ from typing import TYPE_CHECKING, ClassVar
 
 import numpy as np
 
+from socialnav.core.errors import checked_bool
 from socialnav.core.geometry import wrap_angle
 from socialnav.core.trajectories import Trajectories
 from socialnav.planner import kernels
@@ -61,7 +62,8 @@ class HeadingCritic(Critic):
     ``near_goal`` (m): no heading cost within this distance of the goal; ``goal_align``: a
     holonomic base is scored against the goal's yaw within its reach of the goal (module
     docstring; ignored for a differential drive and at a social waypoint). ``ValueError`` on a
-    non-positive length or a non-bool ``goal_align``."""
+    non-positive length, ``ConfigurationError`` (a ``ValueError``) on a non-bool
+    ``goal_align``."""
 
     name: ClassVar[str] = "heading"
     unit: ClassVar[str] = "rad"
@@ -74,9 +76,7 @@ class HeadingCritic(Critic):
     def __post_init__(self) -> None:
         if not (self.heading_lookahead > 0 and self.spacing > 0):
             raise ValueError("heading_lookahead and spacing must be positive")
-        if not isinstance(self.goal_align, bool | np.bool_):
-            raise ValueError(f"goal_align must be a bool, got {self.goal_align!r}")
-        object.__setattr__(self, "goal_align", bool(self.goal_align))
+        object.__setattr__(self, "goal_align", checked_bool(self.goal_align, "goal_align"))
 
     def _aligns(self, ctx: PlanningContext) -> bool:
         return self.goal_align and ctx.robot.holonomic and not ctx.steers_to_waypoint()
