@@ -4,6 +4,7 @@ defaults, and bad input names the file and the line."""
 from __future__ import annotations
 
 import json
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -83,11 +84,18 @@ def test_detect_format_and_groups(tmp_path: Path) -> None:
     path = write_obsmat(tmp_path / "seq_obsmat.txt")
     (tmp_path / "seq_groups.txt").write_text("1 2\n\n1 99\n")
     assert detect_format(path) == "obsmat"
-    rec = load_recording(path)
-    # A group naming someone the file never shows keeps only the people present.
+    # A group naming someone the file never shows keeps only the people present, and the
+    # loader says so, naming the list and the id (newcomer trial: dropped silently).
+    with pytest.warns(UserWarning, match=r"seq_groups\.txt: 1 group\(s\) name people .*ids 99\)"):
+        rec = load_recording(path)
     assert rec.groups == ((1, 2),)
+    # A group wholly absent is a slice's, not a mismatch: kept out without a word.
+    (tmp_path / "seq_groups.txt").write_text("1 2\n98 99\n")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert load_recording(path).groups == ((1, 2),)
     assert load_recording(path, groups=False).groups == ()
-    assert load_groups(tmp_path / "seq_groups.txt") == ((1, 2), (1, 99))
+    assert load_groups(tmp_path / "seq_groups.txt") == ((1, 2), (98, 99))
 
 
 def test_shared_hotel_slice(hotel_slice: Path) -> None:

@@ -121,3 +121,45 @@ def test_worst_failures_come_worst_first(tmp_path: Path):
     table = report[report.index("Worst failures of paccet") :]
     at = [table.index(f"| hallway | pr2 | {seed} |") for seed in (10003, 10004, 10002, 10001)]
     assert at == sorted(at)
+
+
+def test_bug_a_run_with_the_context_detected_only_is_named_so_and_reruns_so(tmp_path: Path):
+    # Newcomer trial: `compare --context detected` was reported as "10 runs with the context
+    # given (and 10 with it detected ...)", reproduced with `--context both` (20 runs), and
+    # its failures were left out as "paccet failed no run with the context given".
+    rows = []
+    for seed in range(10000, 10003):
+        detected = row("queue", "paccet", "pr2", seed, seed != 10001, 30.0, context="detected")
+        detected["run_id"] += "__detected"
+        rows.append(detected)
+    report = build_generated_report(rows, tmp_path).read_text()
+    assert "3 runs with the context detected, seeds 10000–10002" in report
+    assert "(and 3 with it detected" not in report and "runs with the context given" not in report
+    assert "--planners paccet --robots pr2 --context detected`" in report
+    assert "--context both" not in report
+    assert "Worst failures of paccet with the context detected" in report
+    assert (
+        "--seeds 10001:10002 --planners paccet --robots pr2 --context detected "
+        "--out rerun-queue-pr2-paccet-10001" in report
+    )
+
+
+def test_bug_every_planner_that_ran_gets_its_worst_failures(tmp_path: Path):
+    # Newcomer trial: the section only ever covered paccet ("Worst failures of paccet: paccet
+    # failed no run" for a run of traditional alone, whose failures went unlisted).
+    rows = [row("queue", "traditional", "pr2", s, False, 12.0) for s in range(10000, 10006)]
+    report = build_generated_report(rows, tmp_path).read_text()
+    assert "Worst failures of paccet" not in report
+    section = report[report.index("Worst failures of traditional") :]
+    # a baseline's few worst, said as such
+    assert "The 4 worst of 6 failed runs." in section
+    assert section.count("| queue | pr2 |") == 4
+    assert "--planners traditional --robots pr2 --out rerun-queue-pr2-traditional-" in section
+    ours = [row("queue", "paccet", "pr2", s, s != 10002, 12.0) for s in range(10000, 10006)]
+    report = build_generated_report(rows + ours, tmp_path).read_text()
+    # paccet, the planner the report is about, first
+    ours_section = report[
+        report.index("Worst failures of paccet") : report.index("Worst failures of traditional")
+    ]
+    assert "rerun-queue-pr2-paccet-10002" in ours_section
+    assert "rerun-queue-pr2-traditional" not in ours_section

@@ -26,6 +26,7 @@ import io
 import json
 import math
 import re
+import warnings
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -219,9 +220,21 @@ def _with_groups(
     path: Path,
     fmt: str,
     max_gap: float,
+    source: str = "group list",
 ) -> Recording:
     known = {t.id for t in tracks}
-    # Group lists may name people the file never shows: keep only those present.
+    # Group lists may name people the file never shows (a slice of a recording keeps its
+    # list): keep only those present. A group only partly present is said: people who walk
+    # together appear together, so it hints at another recording's list.
+    partial = [g for g in groups if 0 < sum(i in known for i in g) < len(g)]
+    if partial:
+        absent = sorted({i for g in partial for i in g} - known)
+        shown = ", ".join(map(str, absent[:10])) + (", ..." if len(absent) > 10 else "")
+        warnings.warn(
+            f"{source}: {len(partial)} group(s) name people who never appear in {path} "
+            f"(ids {shown}); those groups keep only the people present",
+            stacklevel=3,
+        )
     kept = tuple(g2 for g in groups if len(g2 := tuple(i for i in g if i in known)) >= 2)
     return Recording(tracks, period, kept, path, fmt, max_gap)
 
@@ -239,7 +252,9 @@ def load_obsmat(
     p = Path(path)
     period = _period(frame_period, OBSMAT_FRAME_PERIOD, p)
     df = _read_table(p, OBSMAT_COLUMNS, r"[\s,]+")
-    return _with_groups(_tracks(df, period, p), _groups(groups), period, p, "obsmat", max_gap)
+    return _with_groups(
+        _tracks(df, period, p), _groups(groups), period, p, "obsmat", max_gap, _source(groups)
+    )
 
 
 def load_four_column(
@@ -253,7 +268,9 @@ def load_four_column(
     p = Path(path)
     period = _period(frame_period, FOUR_COLUMN_FRAME_PERIOD, p)
     df = _read_table(p, ("frame", "id", "x", "y"), r"[\s,]+")
-    return _with_groups(_tracks(df, period, p), _groups(groups), period, p, "four_column", max_gap)
+    return _with_groups(
+        _tracks(df, period, p), _groups(groups), period, p, "four_column", max_gap, _source(groups)
+    )
 
 
 def load_trajnet(
@@ -313,7 +330,9 @@ def load_trajnet(
         step = float(np.median(steps)) if len(steps) else 1.0
         frame_period = 1.0 / (rate * step)
     period = _period(frame_period, TRAJNET_FPS, p)
-    return _with_groups(_tracks(df, period, p), _groups(groups), period, p, "trajnet", max_gap)
+    return _with_groups(
+        _tracks(df, period, p), _groups(groups), period, p, "trajnet", max_gap, _source(groups)
+    )
 
 
 def _number(value: object, path: Path, line: int, field: str) -> float:
@@ -332,6 +351,11 @@ def _groups(
     if isinstance(groups, str | Path):
         return load_groups(groups)
     return tuple(tuple(int(i) for i in g) for g in groups)
+
+
+def _source(groups: str | Path | Sequence[Sequence[int]] | None) -> str:
+    """How a warning names the group list: its file, or "group list" for id lists."""
+    return str(groups) if isinstance(groups, str | Path) else "group list"
 
 
 def sibling_groups_file(path: Path) -> Path | None:

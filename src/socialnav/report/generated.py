@@ -28,6 +28,7 @@ from socialnav.report.document import (
 
 OURS = "paccet"
 WORST_FAILURES = 12
+WORST_BASELINE_FAILURES = 4
 
 
 def family_of(row: dict[str, Any]) -> str:
@@ -221,29 +222,33 @@ def worst_failures_section(
     rows: Sequence[dict[str, Any]],
     out_dir: Path,
     planner: str = OURS,
-    given_only: bool = False,
+    context: str = "",
+    limit: int = WORST_FAILURES,
 ) -> None:
-    """The worst failed runs of ``planner`` (:func:`_badness`: collisions, then the most failed
-    conditions, then the closest approach to a person), each with its picture, failed
-    conditions and the command that reruns it (``given_only``: the rows are the runs with the
-    context given, the detected ones being compared in their own section)."""
+    """The ``limit`` worst failed runs of ``planner`` (:func:`_badness`: collisions, then the
+    most failed conditions, then the closest approach to a person), each with its picture,
+    failed conditions and the command that reruns it. ``context``: the social context the
+    rows share, named in the heading ("given" beside detected runs compared in their own
+    section, or "detected"); empty when there is nothing to tell apart."""
     failed = [r for r in rows if r["planner"] == planner and r.get("success") != 1.0]
-    which = " with the context given" if given_only else ""
+    which = f" with the context {context}" if context else ""
     doc.add(Heading(f"Worst failures of {planner}{which}"))
     if not failed:
         doc.add(Paragraph(f"{planner} failed no run{which}."))
         return
     failed.sort(key=_badness)
+    shown = failed[:limit]
+    if len(failed) > len(shown):
+        doc.add(Paragraph(f"The {len(shown)} worst of {len(failed)} failed runs."))
     fig_dir = out_dir / "figures"
     fig_dir.mkdir(parents=True, exist_ok=True)
     body = []
-    for r in failed[:WORST_FAILURES]:
+    for r in shown:
         why = r.get("failed_required") or r.get("error", "")[:60]
-        body.append(
-            [family_of(r), r["robot"], r["seed"], why, _rerun_command([r], False, _rerun_folder(r))]
-        )
+        rerun = _rerun_command([r], _context_of(r), _rerun_folder(r))
+        body.append([family_of(r), r["robot"], r["seed"], why, rerun])
     doc.add(Table(["family", "robot", "seed", "failed condition", "rerun"], body))
-    for r in failed[:WORST_FAILURES]:
+    for r in shown:
         path = fig_dir / f"fail__{r['run_id']}.png"
         try:
             from socialnav.experiments.storage import load_episode
@@ -262,14 +267,19 @@ def worst_failures_section(
         )
 
 
+def _context_of(row: dict[str, Any]) -> str:
+    return str(row.get("context") or "given")
+
+
 def _rerun_folder(row: dict[str, Any]) -> str:
     return f"rerun-{family_of(row)}-{row['robot']}-{row['planner']}-{row['seed']}"
 
 
-def _rerun_command(rows: Sequence[dict[str, Any]], detected: bool, out: str = "") -> str:
-    """The ``socialnav compare`` command that reruns ``rows`` (seeds as their covering range),
-    into ``out`` when given (a fresh folder: rerun in the report's own folder, ``--resume``
-    would skip the stored run)."""
+def _rerun_command(rows: Sequence[dict[str, Any]], context: str = "given", out: str = "") -> str:
+    """The ``socialnav compare`` command that reruns ``rows`` (seeds as their covering range)
+    with ``--context`` ``context`` (``given``, the default, is left out), into ``out`` when
+    given (a fresh folder: rerun in the report's own folder, ``--resume`` would skip the
+    stored run)."""
     if not rows:
         return "socialnav compare --suite generated --seeds A:B"
     seeds = sorted({int(r["seed"]) for r in rows})
@@ -279,7 +289,7 @@ def _rerun_command(rows: Sequence[dict[str, Any]], detected: bool, out: str = ""
     return (
         f"socialnav compare --suite generated --families {families} "
         f"--seeds {seeds[0]}:{seeds[-1] + 1} --planners {planners} --robots {robots}"
-        + (" --context both" if detected else "")
+        + (f" --context {context}" if context != "given" else "")
         + (f" --out {out}" if out else "")
     )
 
@@ -287,12 +297,17 @@ def _rerun_command(rows: Sequence[dict[str, Any]], detected: bool, out: str = ""
 def build_generated_report(rows: Sequence[dict[str, Any]], out_dir: Path) -> Path:
     """Write ``report.md`` and ``report.html`` of a generated-suite run into ``out_dir``.
 
-    With runs of both contexts, every section but "Social context" reports the given runs."""
+    With runs of both contexts, every section but "Social context" reports the given runs; a
+    run of one context reports it and names it. Each planner that ran gets its worst failures
+    (``paccet`` its ``WORST_FAILURES`` worst, a baseline its ``WORST_BASELINE_FAILURES``)."""
     all_rows = list(rows)
     all_ok = [r for r in rows if not r.get("error")]
-    detected = sum(r.get("context", "given") != "given" for r in rows)
-    if detected:
-        rows = [r for r in rows if r.get("context", "given") == "given"] or list(rows)
+    contexts = {_context_of(r) for r in rows}
+    both = len(contexts) > 1
+    if both:
+        rows = [r for r in rows if _context_of(r) == "given"] or list(rows)
+    context = "both" if both else next(iter(contexts), "given")
+    detected = sum(_context_of(r) != "given" for r in all_rows) if both else 0
     ok = [r for r in rows if not r.get("error")]
     planners = _planner_order(ok) if ok else []
     seeds = sorted({int(r["seed"]) for r in rows})
@@ -303,25 +318,30 @@ def build_generated_report(rows: Sequence[dict[str, Any]], out_dir: Path) -> Pat
         if seeds and seeds[-1] < 10_000
         else "mixed development and reporting seeds"
     )
+    if both:
+        counted = f" with the context given (and {detected} with it detected, compared at the end)"
+    elif context != "given":
+        counted = f" with the context {context}"
+    else:
+        counted = ""
     doc = Document("socialnav: generated suite")
     doc.add(
         Paragraph(
-            f"{len(rows)} runs"
-            + (
-                f" with the context given (and {detected} with it detected, compared at the end)"
-                if detected
-                else ""
-            )
+            f"{len(rows)} runs{counted}"
             + f", seeds {seeds[0] if seeds else '–'}–{seeds[-1] if seeds else '–'} "
             f"({split}); planners {', '.join(planners)}. Arrival tolerance 0.10 m (and 0.2 rad at "
-            f"social spots). Reproduce with `{_rerun_command(all_rows, bool(detected))}`."
+            f"social spots). Reproduce with `{_rerun_command(all_rows, context)}`."
         )
     )
     pass_rate_section(doc, ok, planners)
     efficiency_section(doc, ok, planners)
     crowdnav_section(doc, ok, planners)
-    worst_failures_section(doc, ok, out_dir, given_only=bool(detected))
-    if any(r.get("context", "given") == "detected" for r in all_ok):
+    named = "given" if both else ("" if context == "given" else context)
+    # ours first: the planner the report is about, then the baselines in display order
+    for planner in sorted(planners or [OURS], key=lambda name: name != OURS):
+        limit = WORST_FAILURES if planner == OURS else WORST_BASELINE_FAILURES
+        worst_failures_section(doc, ok, out_dir, planner, named, limit)
+    if any(_context_of(r) == "detected" for r in all_ok):
         context_section(doc, [{**r, "family": family_of(r)} for r in all_ok], planners)
     errors = [r for r in all_rows if r.get("error")]
     if errors:
