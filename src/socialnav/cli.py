@@ -158,7 +158,10 @@ def run(
     crowd: Annotated[
         Path | None, typer.Option(help="A recorded crowd (obsmat, frame-id-x-y, ndjson).")
     ] = None,
-    t0: Annotated[float, typer.Option(help="--crowd only: start time in the recording (s).")] = 0.0,
+    t0: Annotated[
+        float | None,
+        typer.Option(help="--crowd only: start time in the recording (s); default its start."),
+    ] = None,
     start: Annotated[
         tuple[float, float] | None,
         typer.Option(metavar="X Y", help="--crowd only: robot start X Y (m)."),
@@ -205,7 +208,7 @@ def run(
     if misplaced:
         _fail(f"{_applies(misplaced)} with --crowd, not with a scenario")
     if scenario is None:
-        _fail("give a scenario, or --crowd FILE --t0 T --start X Y --goal X Y")
+        _fail("give a scenario, or --crowd FILE [--t0 T] --start X Y --goal X Y")
         return
     try:
         summary = run_single(
@@ -233,7 +236,7 @@ def _progress(line: str) -> None:
 
 def _run_crowd(
     data: Path,
-    t0: float,
+    t0: float | None,
     start: tuple[float, float] | None,
     goal: tuple[float, float] | None,
     planner: str,
@@ -296,6 +299,7 @@ def _compare_crowds(
         REPORT_SEEDS,
         check_stored_recordings,
         crowd_specs,
+        load_noting,
         parse_seeds,
         unique_recordings,
     )
@@ -309,7 +313,10 @@ def _compare_crowds(
         first = parse_seeds(seeds or REPORT_SEEDS).start
         for path in files:
             # a bad file, or one that yields no episode, fails here, not as a row per run
-            generate_episode(load_recording(path), first)
+            recording, said = load_noting(path, load_recording)
+            for line in said:
+                _warn(line)
+            generate_episode(recording, first)
         stored = [r for r in ResultStore(out, notify=_warn).load() if r.get("suite") == "crowds"]
         check_stored_recordings(stored, files)
         specs = crowd_specs(

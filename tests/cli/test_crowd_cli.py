@@ -440,3 +440,40 @@ def test_a_negative_seed_or_no_workers_is_a_clean_error(
     result = invoke(*args, "--out", tmp_path / "o")
     assert result.exit_code == 2 and isinstance(result.exception, SystemExit)
     assert message in " ".join(result.output.replace("│", " ").split())
+
+
+def _late_slice(folder: Path) -> Path:
+    """Two walkers annotated from frame 10 (0.4 s, as ETH hotel starts at 0.04 s, not 0) and a
+    group list whose second line names someone the file never shows."""
+    rows = []
+    for frame in range(10, 260, 10):
+        x = (frame - 10) / 24.0
+        rows.append(f"{frame} 1 {x:.3f} 0 0.0 0.4 0 0")
+        rows.append(f"{frame} 2 {x:.3f} 0 10.0 0.4 0 0")
+    path = folder / "late_obsmat.txt"
+    path.write_text("\n".join(rows) + "\n")
+    (folder / "late_groups.txt").write_text("1 99\n")
+    return path
+
+
+def test_bug_run_crowd_starts_at_the_recordings_start_without_t0(tmp_path: Path) -> None:
+    # Newcomer trial: --t0 defaulted to 0, outside ETH hotel's span (0.04–722.44 s), so a run
+    # without --t0 always failed there; and the loader's group warning reached only Python's
+    # stderr, not the run's own warnings.
+    path = _late_slice(tmp_path)
+    out = tmp_path / "run"
+    task = ("--start", "3", "5", "--goal", "4", "5", "--planner", "straight_line")
+    result = invoke("run", "--crowd", path, *task, "--out", out)
+    assert result.exit_code == 0, result.output
+    summary = json.loads(result.stdout)
+    assert load_episode(out).meta["t0"] == pytest.approx(0.4)
+    said = [w for w in summary["warnings"] if "group(s) name people" in w]
+    assert len(said) == 1 and "late_groups.txt" in said[0] and "ids 99" in said[0]
+    # the same warning once per file in a comparison, on the CLI's warning channel, before
+    # the file is checked for episodes (two walkers yield none: a clean error, no traceback)
+    result = invoke(
+        "compare", "--suite", "crowds", "--data", path, "--seeds", "1", "--out", tmp_path / "c"
+    )
+    assert result.exit_code == 2 and "no episode" in result.stderr
+    assert result.stderr.count("warning: ") == 1
+    assert result.stderr.index("group(s) name people") < result.stderr.index("no episode")

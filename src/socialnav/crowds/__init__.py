@@ -11,6 +11,7 @@ from socialnav.crowds.loaders import (
     load_obsmat,
     load_recording,
     load_trajnet,
+    sibling_groups_file,
 )
 from socialnav.crowds.recording import Area, CrowdState, Recording, Track
 from socialnav.crowds.space import area_walls, open_space_costmap
@@ -29,4 +30,5 @@ __all__ = [
     "load_recording",
     "load_trajnet",
     "open_space_costmap",
+    "sibling_groups_file",
 ]

@@ -232,7 +232,8 @@ def _with_groups(
         shown = ", ".join(map(str, absent[:10])) + (", ..." if len(absent) > 10 else "")
         warnings.warn(
             f"{source}: {len(partial)} group(s) name people who never appear in {path} "
-            f"(ids {shown}); those groups keep only the people present",
+            f"(ids {shown}); those groups keep only the people present (a group left with "
+            "fewer than two is dropped)",
             stacklevel=3,
         )
     kept = tuple(g2 for g in groups if len(g2 := tuple(i for i in g if i in known)) >= 2)

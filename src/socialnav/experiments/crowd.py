@@ -186,10 +186,23 @@ def check_stored_recordings(stored: list[dict[str, Any]], data: list[str]) -> No
 
 @lru_cache(maxsize=8)
 def cached_recording(path: str) -> Any:
-    """A recording loaded once per process (workers run many episodes of one file)."""
+    """A recording loaded once per process (workers run many episodes of one file); its
+    loader's warnings were said once when the call checked the file (:func:`load_noting`)."""
     from socialnav.crowds import load_recording
 
-    return load_recording(path)
+    return load_noting(path, load_recording)[0]
+
+
+def load_noting(path: str | Path, load: Callable[[Any], Any]) -> tuple[Any, list[str]]:
+    """``(load(path), its warnings' texts)``: what the loader warns about (a group list only
+    partly matching the recording) goes where the caller's other warnings go, once, instead
+    of Python's stderr line from inside the library."""
+    import warnings as py_warnings
+
+    with py_warnings.catch_warnings(record=True) as caught:
+        py_warnings.simplefilter("always")
+        loaded = load(path)
+    return loaded, [str(w.message) for w in caught]
 
 
 def crowd_controller(planner: str, record: bool = False) -> Any:
@@ -383,7 +396,7 @@ def crowd_task_warnings(
 
 def run_crowd_single(
     data: Path,
-    t0: float,
+    t0: float | None,
     start: tuple[float, float],
     goal: tuple[float, float],
     planner: str,
@@ -426,10 +439,12 @@ def run_crowd_single(
     controller = crowd_controller(planner, record=True)
     check_robot(robot)
     check_outputs(fmt, video, out)
-    recording = load_recording(data)
+    recording, warnings = load_noting(data, load_recording)
+    if t0 is None:
+        t0 = recording.start_time  # the first annotated instant (ETH hotel: 0.04 s, not 0)
     radius = ROBOT_MODELS[robot].circumscribed_radius
     check_crowd_task(recording, t0, start, goal, switch_distance, margin=radius)
-    warnings = crowd_task_warnings(recording, t0, start, time_limit)
+    warnings += crowd_task_warnings(recording, t0, start, time_limit)
     for line in warnings:
         (warn or (lambda line: None))(line)
     say = progress or (lambda line: None)
