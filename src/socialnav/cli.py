@@ -293,7 +293,6 @@ def _compare_crowds(
     """``compare --suite crowds``: every --data file × planners (+ straight_line) × robots,
     once per social context."""
     from socialnav.core.errors import ConfigurationError
-    from socialnav.crowds import load_recording
     from socialnav.crowds.episodes import generate_episode
     from socialnav.experiments.crowd import (
         REPORT_SEEDS,
@@ -313,7 +312,7 @@ def _compare_crowds(
         first = parse_seeds(seeds or REPORT_SEEDS).start
         for path in files:
             # a bad file, or one that yields no episode, fails here, not as a row per run
-            recording, said = load_noting(path, load_recording)
+            recording, said = load_noting(path)
             for line in said:
                 _warn(line)
             generate_episode(recording, first)

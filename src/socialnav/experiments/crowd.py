@@ -188,21 +188,21 @@ def check_stored_recordings(stored: list[dict[str, Any]], data: list[str]) -> No
 def cached_recording(path: str) -> Any:
     """A recording loaded once per process (workers run many episodes of one file); its
     loader's warnings were said once when the call checked the file (:func:`load_noting`)."""
-    from socialnav.crowds import load_recording
-
-    return load_noting(path, load_recording)[0]
+    return load_noting(path)[0]
 
 
-def load_noting(path: str | Path, load: Callable[[Any], Any]) -> tuple[Any, list[str]]:
-    """``(load(path), its warnings' texts)``: what the loader warns about (a group list only
-    partly matching the recording) goes where the caller's other warnings go, once, instead
-    of Python's stderr line from inside the library."""
+def load_noting(path: str | Path) -> tuple[Any, list[str]]:
+    """``(load_recording(path), the texts of its warnings)``: what the loader warns about (a
+    group list only partly matching the recording) goes where the caller's other warnings go,
+    once, instead of Python's stderr line from inside the library."""
     import warnings as py_warnings
+
+    from socialnav.crowds import load_recording
 
     with py_warnings.catch_warnings(record=True) as caught:
         py_warnings.simplefilter("always")
-        loaded = load(path)
-    return loaded, [str(w.message) for w in caught]
+        recording = load_recording(path)
+    return recording, [str(w.message) for w in caught]
 
 
 def crowd_controller(planner: str, record: bool = False) -> Any:
@@ -427,7 +427,6 @@ def run_crowd_single(
     a bad file or a task the recording cannot hold (:func:`check_crowd_task`), all before the
     episode runs."""
     from socialnav.core.robot import ROBOT_MODELS
-    from socialnav.crowds import load_recording
     from socialnav.experiments.run import check_outputs, check_robot, write_run
     from socialnav.metrics import compute_metrics, evaluate_success
     from socialnav.sim.replay import CrowdTask, run_crowd_episode
@@ -439,7 +438,7 @@ def run_crowd_single(
     controller = crowd_controller(planner, record=True)
     check_robot(robot)
     check_outputs(fmt, video, out)
-    recording, warnings = load_noting(data, load_recording)
+    recording, warnings = load_noting(data)
     if t0 is None:
         t0 = recording.start_time  # the first annotated instant (ETH hotel: 0.04 s, not 0)
     radius = ROBOT_MODELS[robot].circumscribed_radius
