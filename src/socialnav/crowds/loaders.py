@@ -215,13 +215,15 @@ def load_groups(path: str | Path) -> tuple[tuple[int, ...], ...]:
 
 def _with_groups(
     tracks: tuple[Track, ...],
-    groups: tuple[tuple[int, ...], ...],
+    spec: str | Path | Sequence[Sequence[int]] | None,
     period: float,
     path: Path,
     fmt: str,
     max_gap: float,
-    source: str = "group list",
 ) -> Recording:
+    """The recording of ``tracks`` with the group list ``spec`` (a file or id lists)."""
+    groups = _groups(spec)
+    source = str(spec) if isinstance(spec, str | Path) else "group list"
     known = {t.id for t in tracks}
     # Group lists may name people the file never shows (a slice of a recording keeps its
     # list): keep only those present. A group only partly present is said: people who walk
@@ -253,9 +255,7 @@ def load_obsmat(
     p = Path(path)
     period = _period(frame_period, OBSMAT_FRAME_PERIOD, p)
     df = _read_table(p, OBSMAT_COLUMNS, r"[\s,]+")
-    return _with_groups(
-        _tracks(df, period, p), _groups(groups), period, p, "obsmat", max_gap, _source(groups)
-    )
+    return _with_groups(_tracks(df, period, p), groups, period, p, "obsmat", max_gap)
 
 
 def load_four_column(
@@ -269,9 +269,7 @@ def load_four_column(
     p = Path(path)
     period = _period(frame_period, FOUR_COLUMN_FRAME_PERIOD, p)
     df = _read_table(p, ("frame", "id", "x", "y"), r"[\s,]+")
-    return _with_groups(
-        _tracks(df, period, p), _groups(groups), period, p, "four_column", max_gap, _source(groups)
-    )
+    return _with_groups(_tracks(df, period, p), groups, period, p, "four_column", max_gap)
 
 
 def load_trajnet(
@@ -331,9 +329,7 @@ def load_trajnet(
         step = float(np.median(steps)) if len(steps) else 1.0
         frame_period = 1.0 / (rate * step)
     period = _period(frame_period, TRAJNET_FPS, p)
-    return _with_groups(
-        _tracks(df, period, p), _groups(groups), period, p, "trajnet", max_gap, _source(groups)
-    )
+    return _with_groups(_tracks(df, period, p), groups, period, p, "trajnet", max_gap)
 
 
 def _number(value: object, path: Path, line: int, field: str) -> float:
@@ -352,11 +348,6 @@ def _groups(
     if isinstance(groups, str | Path):
         return load_groups(groups)
     return tuple(tuple(int(i) for i in g) for g in groups)
-
-
-def _source(groups: str | Path | Sequence[Sequence[int]] | None) -> str:
-    """How a warning names the group list: its file, or "group list" for id lists."""
-    return str(groups) if isinstance(groups, str | Path) else "group list"
 
 
 def sibling_groups_file(path: Path) -> Path | None:
