@@ -402,6 +402,17 @@ PASSING_DISTANCE = 1.25
 #: against the standing plan's length plus 0.3 × the straight line (not 1.3 × the standing
 #: plan, which is itself long round a group to be joined): mixed 1.41/1.29. Still a trade of
 #: time near people and contacts for path length; kept at 0.5.
+#: Measured and not adopted: a cap in metres beside the fraction (the social plan also gives
+#: way when it is more than D m longer than the standing plan; the case: generated mixed dev
+#: seed 23, where the Pioneer took a 15.6 m plan round the group's far side instead of a 10.6
+#: m one, 39 s to the goal against hl's 12 s). Generated dev seeds 0–59 of crowdnav,
+#: crowdnav_visible, hallway and mixed, both robots: 472 passes and 2 collision runs for every
+#: D; mean time ratio to hl, crowdnav Pioneer/PR2, crowdnav_visible, mixed; recorded crowds dev
+#: 0–89: successes, active- and passive-contact episodes, time within 1.2 m, path ratio.
+#: No cap: 1.27/1.20, 1.31/1.24, 1.47/1.37; 359, 0, 112, 6.40 s, 1.31. 4 m: 1.27/1.20,
+#: 1.31/1.24, 1.45/1.35; 358, 0, 109, 6.42 s, 1.30 (zara01 Pioneer 58 went into the crowd
+#: and timed out). 3 m: 1.26/1.17, 1.30/1.23, 1.43/1.32; 358, 1, 104, 6.56 s, 1.29. 2 m:
+#: 1.25/1.18, 1.28/1.23, 1.42/1.30; 356, 2, 114, 6.66 s, 1.26. The same trade as the fraction.
 DETOUR_LIMIT = 0.5
 #: ``paccet``'s no-fleeing rule and rotation shim after an evasion
 #: (``RecoveryParams.evasion_max_retreat``, ``rotation_shim_threshold``). In generated
