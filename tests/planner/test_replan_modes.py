@@ -122,9 +122,9 @@ def test_the_worker_plans_from_where_robot_and_people_will_be_when_it_is_used():
     seen: list[tuple[np.ndarray, SocialContext]] = []
     compute = nav._compute_plan
 
-    def spy(pose, target, social, fresh, previous=None):
+    def spy(pose, target, social, fresh, previous=None, partners=None):
         seen.append((pose, social))
-        return compute(pose, target, social, fresh, previous)
+        return compute(pose, target, social, fresh, previous, partners)
 
     nav._compute_plan = spy
     walker = SocialContext((Person(0, (6.0, 6.0), (1.0, -0.5)), Person(1, (8.0, 5.0))))

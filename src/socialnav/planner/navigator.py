@@ -59,6 +59,12 @@ Decisions:
   mostly within 1.25 times as long (``presets.DETOUR_LIMIT``: 0.5 in ``paccet``).
 - ``meeting_layer``: a global layer that also reads the plan's start pose (e.g. walkers'
   personal space where the robot can meet them), applied after ``global_layer``.
+- Interaction partners (``partner_spacing``, default off): while the robot steers to a
+  stopping social goal, ``global_layer`` and ``detour_layer`` are called with
+  ``partners=`` (person id → distance in m, :func:`~socialnav.social.goals.interaction_distances`
+  with the ID objective's threshold and margin): the people it joins, queues behind or presents
+  to are drawn at the interaction's own distance, as the local planner's ID scores them
+  (``InterpersonalCritic.partner_distance``). Both layers must take that keyword.
 - The plan is pruned behind the robot: it starts at the plan vertex nearest the robot among the
   next ``prune_lookahead`` m of the plan (so a plan looping back is not skipped ahead).
 - The local window is ``window_size`` m square around the robot (``world.costmap.crop``; off-map
@@ -78,7 +84,8 @@ Decisions:
 
 from __future__ import annotations
 
-from collections.abc import Callable
+import inspect
+from collections.abc import Callable, Mapping
 from concurrent.futures import Future, ThreadPoolExecutor
 from dataclasses import dataclass, replace
 from typing import Any, Literal
@@ -93,6 +100,7 @@ from socialnav.core.robot import RobotModel
 from socialnav.core.scene import SocialContext
 from socialnav.planner.contact_guard import ContactGuardParams, guard_contact
 from socialnav.planner.context import PlanningContext
+from socialnav.planner.critics.interpersonal import InterpersonalCritic
 from socialnav.planner.global_planner import (
     GlobalPlan,
     GlobalSearch,
@@ -103,7 +111,7 @@ from socialnav.planner.global_planner import (
 from socialnav.planner.limits import CycleClock, enforce_limits
 from socialnav.planner.local_planner import PlannerResult, PlannerStatus
 from socialnav.planner.protocols import LocalPlannerProtocol
-from socialnav.social.goals import SocialGoal
+from socialnav.social.goals import SocialGoal, interaction_distances
 from socialnav.social.plausibility import plausible_context
 from socialnav.world.costmap import add_obstacle_discs, crop
 from socialnav.world.grid import INSCRIBED, LETHAL, Costmap
@@ -129,6 +137,24 @@ class _PendingPlan:
     target: FloatArray
     changed: bool
     off_plan: bool
+
+
+#: The ID objective's partner rule (threshold and margin, m) that ``partner_spacing`` mirrors.
+_PARTNER_RULE = InterpersonalCritic()
+
+
+def _drawn(
+    layer: CostmapLayer,
+    costmap: Costmap,
+    social: SocialContext,
+    partners: Mapping[int, float] | None,
+) -> Costmap:
+    """``layer`` applied to ``costmap``, with ``partners=`` when there are any (a layer of a
+    ``partner_spacing`` navigator takes it; module docstring)."""
+    if not partners:
+        return layer(costmap, social)
+    fn: Callable[..., Costmap] = layer
+    return fn(costmap, social, partners=partners)
 
 
 def _advanced(social: SocialContext, dt: float) -> SocialContext:
@@ -183,6 +209,7 @@ class Navigator:
         detour_layer: CostmapLayer | None = None,
         detour_limit: float = 0.0,
         contact_guard: ContactGuardParams | None = None,
+        partner_spacing: bool = False,
     ) -> None:
         g = np.asarray(goal, dtype=float)
         if g.shape != (3,) or not np.all(np.isfinite(g)):
@@ -205,6 +232,13 @@ class Navigator:
                 raise ValueError(f"{name} must be a finite number >= 0, got {value!r}")
         if detour_limit > 0 and detour_layer is None:
             raise ValueError("detour_limit needs a detour_layer (the plan it is compared with)")
+        if not isinstance(partner_spacing, bool):
+            raise ValueError(f"partner_spacing must be a bool, got {partner_spacing!r}")
+        if partner_spacing:
+            for name, layer in (("global_layer", global_layer), ("detour_layer", detour_layer)):
+                if layer is not None and "partners" not in inspect.signature(layer).parameters:
+                    raise ValueError(f"partner_spacing needs a {name} that takes partners=")
+        self.partner_spacing = partner_spacing
         self.contact_guard = contact_guard
         self.meeting_layer = meeting_layer
         self.replan_hysteresis = float(replan_hysteresis)
@@ -403,7 +437,8 @@ class Navigator:
             )
             return PlannerResult(np.zeros(3), PlannerStatus.NO_PATH, None, why)
         self.resolved_goal = resolved
-        path = self._global_path(now, pose, resolved, social, velocity)
+        partners = self._partners(social, social_goal)
+        path = self._global_path(now, pose, resolved, social, velocity, partners)
         if path is None:
             return PlannerResult(
                 np.zeros(3), PlannerStatus.NO_PATH, None, f"global planner: {self.last_plan_status}"
@@ -431,6 +466,20 @@ class Navigator:
         if self.social_goal_fn is None:
             return None
         return self.social_goal_fn(social, self.goal, pose)
+
+    def _partners(self, social: SocialContext, sg: SocialGoal | None) -> dict[int, float]:
+        """Person id → the interaction's own distance (m) of the stopping social goal's
+        partners (``partner_spacing``; module docstring); empty otherwise."""
+        if not self.partner_spacing or sg is None or sg.is_waypoint or not social.people:
+            return {}
+        own = interaction_distances(
+            social, sg.pose, _PARTNER_RULE.threshold, _PARTNER_RULE.partner_margin
+        )
+        return {
+            p.id: float(d)
+            for p, d in zip(social.people, own, strict=True)
+            if d < _PARTNER_RULE.threshold
+        }
 
     def _target(self, sg: SocialGoal | None, pose: FloatArray) -> FloatArray:
         if sg is None:
@@ -521,6 +570,7 @@ class Navigator:
         target: FloatArray,
         social: SocialContext,
         velocity: FloatArray | None = None,
+        partners: Mapping[int, float] | None = None,
     ) -> FloatArray | None:
         changed = self._path_target is None or (
             np.hypot(*(target[:2] - self._path_target[:2])) > 0.05
@@ -538,12 +588,13 @@ class Navigator:
         urgent = changed or self._path is None or off_plan  # react now, as inline does
         if scheduled and not urgent and self.replan_mode != "inline":
             if self._pending is None:  # one replan in flight at a time
-                self._request(now, pose, target, social, changed, off_plan, velocity)
+                self._request(now, pose, target, social, changed, off_plan, velocity, partners)
         elif urgent or scheduled:
             self._discard_pending()
             # A waiting robot replans to find another way: no hysteresis then.
             kept = None if (changed or off_plan or self._waiting) else self._path
-            plan = self._compute_plan(pose, target, social, changed or self._path is None, kept)
+            fresh = changed or self._path is None
+            plan = self._compute_plan(pose, target, social, fresh, kept, partners)
             self._apply_plan(now, pose, target, plan, changed, off_plan)
         if self._path is None:
             return None
@@ -557,6 +608,7 @@ class Navigator:
         social: SocialContext,
         fresh: bool,
         previous: FloatArray | None = None,
+        partners: Mapping[int, float] | None = None,
     ) -> GlobalPlan:
         """The global plan from ``pose`` to ``target`` around the people on the map (pure: it
         reads only its arguments and the navigator's fixed configuration, so it may run on
@@ -567,7 +619,7 @@ class Navigator:
         static_people = self._with_people(self.costmap, on_map, static=True)
         costmap = static_people
         if self.global_layer is not None:
-            costmap = self.global_layer(costmap, on_map)
+            costmap = _drawn(self.global_layer, costmap, on_map, partners)
         if self.meeting_layer is not None:
             costmap = self.meeting_layer(costmap, on_map, pose)
         plan = plan_path(
@@ -579,7 +631,7 @@ class Navigator:
         )
         if self.detour_limit > 0.0 and self.detour_layer is not None and on_map.people:
             plan, costmap = self._limit_detour(
-                plan, costmap, self.detour_layer, static_people, on_map, pose, target
+                plan, costmap, self.detour_layer, static_people, on_map, pose, target, partners
             )
         if plan.status != "OK" and costmap is not self.costmap and fresh:
             # Blocked only by people: follow the static plan; the local planner waits.
@@ -618,6 +670,7 @@ class Navigator:
         on_map: SocialContext,
         pose: FloatArray,
         target: FloatArray,
+        partners: Mapping[int, float] | None = None,
     ) -> tuple[GlobalPlan, Costmap]:
         """``(plan, costmap)``, or the plan on ``plain`` (``static_people`` with ``layer``
         alone) and ``plain`` when ``plan`` is more than ``1 + detour_limit`` times as long as
@@ -631,7 +684,7 @@ class Navigator:
         length = path_length(plan.path)
         if length <= (1.0 + self.detour_limit) * floor:
             return plan, costmap
-        plain = layer(static_people, on_map)
+        plain = _drawn(layer, static_people, on_map, partners)
         if np.array_equal(plain.costs, costmap.costs):
             return plan, costmap  # no walker left out
         short = plan_path(
@@ -670,6 +723,7 @@ class Navigator:
         changed: bool,
         off_plan: bool,
         velocity: FloatArray | None = None,
+        partners: Mapping[int, float] | None = None,
     ) -> None:
         """Start the replan of this step on the worker (module docstring, ``replan_mode``)."""
         if self._executor is None:
@@ -683,7 +737,9 @@ class Navigator:
         ahead = _advanced(social, lead)
         keep = not (changed or off_plan or self._waiting or self._path is None)
         kept = self._path.copy() if keep and self._path is not None else None
-        future = self._executor.submit(self._compute_plan, start, target, ahead, changed, kept)
+        future = self._executor.submit(
+            self._compute_plan, start, target, ahead, changed, kept, partners
+        )
         self._pending = _PendingPlan(
             future, self._step_index + self.replan_delay, now, pose, target, changed, off_plan
         )

@@ -75,6 +75,7 @@ from socialnav.planner.navigator import CostmapLayer, MeetingLayer, Navigator, R
 from socialnav.planner.objectives import Objective, with_indifference
 from socialnav.planner.recovery import RecoveringPlanner, RecoveryParams
 from socialnav.social.goals import SocialGoal
+from socialnav.social.proxemics import PERSONAL
 from socialnav.world.grid import Costmap, GridGeometry
 
 # The reference navigation code's scalarization weights, by objective kind.
@@ -119,6 +120,9 @@ class PlannerPreset:
     #: ``Navigator.contact_guard``: no command closes the footprint on a person it touches
     #: (:mod:`~socialnav.planner.contact_guard`); None: off
     contact_guard: ContactGuardParams | None = None
+    #: ``Navigator.partner_spacing`` with ``social_global_path``: the social goal's interaction
+    #: partners at the interaction's own distance in the global plan (``PARTNER_SPACING``)
+    partner_spacing: bool = False
 
     def __post_init__(self) -> None:
         if not isinstance(self.recovery, RecoveryParams):
@@ -549,6 +553,20 @@ PRESETS.add(
 #: Pioneer kept turning at 1 rad/s next to someone until no reachable command could stop the
 #: turn before its corner reached them.
 RECOMMENDED_CONTACT_GUARD = ContactGuardParams()
+#: ``paccet`` draws the social goal's interaction partners at the interaction's own distance in
+#: the global plan too (``Navigator.partner_spacing``), as its ID objective scores them. Before,
+#: their full personal-space Gaussian made every way into a free spot between two members
+#: dear, and the plan went round the group (generated group_join dev seed 45: a 7.7 m path
+#: against 6.1 m). Generated dev seeds 0–59 of gallery_present, group_join, queue and mixed,
+#: both robots (480 runs), off → on: passes 476 → 476, collision runs 0 → 0; mean time ratio to
+#: hl over the scenes both pass, Pioneer / PR2: group_join 1.119 → 1.066 / 1.051 → 1.007,
+#: queue 1.094 → 1.069 / 0.976 → 0.957, mixed 1.467 → 1.449 / 1.367 → 1.345,
+#: gallery_present 1.015 → 1.012 / 1.156 → 1.155; mean closest centre distance to anyone
+#: −0.001 to −0.006 m. group_lead 0–59: 120 → 120 passes, 1.108 → 1.092 / 1.037 → 1.026;
+#: gallery_pass (a waypoint, no partners) every run identical. Without a stopping social
+#: goal nothing changes: hallway, crowdnav and the recorded crowds (dev seeds 0–89: all 360
+#: episodes identical).
+PARTNER_SPACING = True
 
 
 PRESETS.add(
@@ -565,6 +583,7 @@ PRESETS.add(
         recovery=RECOMMENDED_RECOVERY,
         detour_limit=DETOUR_LIMIT,
         contact_guard=RECOMMENDED_CONTACT_GUARD,
+        partner_spacing=PARTNER_SPACING,
     ),
 )
 
@@ -840,6 +859,7 @@ def build_navigator(
         detour_layer=standing_space_layer if preset.social_global_path else None,
         detour_limit=preset.detour_limit if preset.social_global_path else 0.0,
         contact_guard=preset.contact_guard,
+        partner_spacing=preset.partner_spacing and preset.social_global_path,
     )
 
 
@@ -872,27 +892,43 @@ OSPACE_COST = 220
 
 
 def personal_space_layer(
-    costmap: Costmap, social: SocialContext, drawn: NDArray[np.bool_] | None = None
+    costmap: Costmap,
+    social: SocialContext,
+    drawn: NDArray[np.bool_] | None = None,
+    partners: Mapping[int, float] | None = None,
 ) -> Costmap:
     """``costmap`` with a Gaussian personal-space cost per person (those ``drawn (K,)``, all
-    by default) and every group's o-space cost."""
+    by default) and every group's o-space cost. ``partners`` (person id → the interaction's
+    own distance ``d`` in m, ``Navigator.partner_spacing``): that person's Gaussian is
+    narrowed by ``min(1, d / PERSONAL)`` (σ), so it costs at ``d`` what a stranger's costs at
+    the 1.2 m personal distance."""
     from socialnav.social.spaces import o_space
     from socialnav.world.costmap import combine_max
 
     if not social.people:
         return costmap
     positions, velocities = social.positions(), social.velocities()
-    if drawn is not None:
-        positions, velocities = positions[drawn], velocities[drawn]
-    costs = proxemic_costs(
-        costmap.geometry,
-        positions,
-        velocities,
-        amplitude=PERSONAL_SPACE_LAYER["amplitude"],
-        variance=PERSONAL_SPACE_LAYER["variance"],
-        cutoff=PERSONAL_SPACE_LAYER["cutoff"],
-        velocity_factor=PERSONAL_SPACE_LAYER["velocity_factor"],
+    scale = np.array(
+        [min(1.0, (partners or {}).get(p.id, PERSONAL) / PERSONAL) for p in social.people]
     )
+    if drawn is not None:
+        positions, velocities, scale = positions[drawn], velocities[drawn], scale[drawn]
+    costs = np.zeros(costmap.geometry.shape, dtype=np.uint8)
+    # One layer per distinct narrowing (everyone else shares one call).
+    for s in np.unique(scale):
+        these = scale == s
+        costs = np.maximum(
+            costs,
+            proxemic_costs(
+                costmap.geometry,
+                positions[these],
+                velocities[these],
+                amplitude=PERSONAL_SPACE_LAYER["amplitude"],
+                variance=PERSONAL_SPACE_LAYER["variance"] * float(s) ** 2,
+                cutoff=PERSONAL_SPACE_LAYER["cutoff"],
+                velocity_factor=PERSONAL_SPACE_LAYER["velocity_factor"],
+            ),
+        )
     if social.groups:
         xs, ys = costmap.geometry.cell_centers()
         for group in social.groups:
@@ -961,12 +997,15 @@ def _walking(social: SocialContext) -> NDArray[np.bool_]:
     return np.asarray(np.hypot(v[:, 0], v[:, 1]) >= MEETING_LAYER["min_speed"])
 
 
-def standing_space_layer(costmap: Costmap, social: SocialContext) -> Costmap:
+def standing_space_layer(
+    costmap: Costmap, social: SocialContext, partners: Mapping[int, float] | None = None
+) -> Costmap:
     """:func:`personal_space_layer` of the people slower than ``MEETING_LAYER["min_speed"]``
-    (with every group's o-space); walkers are :func:`meeting_space_layer`'s."""
+    (with every group's o-space; ``partners`` as there); walkers are
+    :func:`meeting_space_layer`'s."""
     if not social.people:
         return costmap
-    return personal_space_layer(costmap, social, ~_walking(social))
+    return personal_space_layer(costmap, social, ~_walking(social), partners)
 
 
 def meeting_space_layer(

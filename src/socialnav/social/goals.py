@@ -37,6 +37,7 @@ from scipy.optimize import brentq
 
 from socialnav.core.errors import InvalidInputError
 from socialnav.core.geometry import FloatArray, as_points, signed_distance_to_polygon, wrap_angle
+from socialnav.core.scene import SocialContext
 from socialnav.social.spaces import (
     COINCIDENT_TOL,
     _unique_points,
@@ -104,6 +105,33 @@ class SocialGoal:
     def yaw(self) -> float:
         """Goal heading (rad, world)."""
         return float(self.pose[2])
+
+
+def interaction_distances(
+    social: SocialContext, spot: ArrayLike, threshold: float, margin: float
+) -> FloatArray:
+    """Per person ``(K,)`` of ``social``: the distance (m) the robot keeps from them once it
+    stands at the stopping social goal ``spot (2,)`` (world frame, m). The members of a
+    structure (group member, queue member, artwork viewer) nearer ``spot`` than ``threshold``
+    are the people the robot joins, queues behind or presents to (its interaction partners):
+    theirs is the spot's own distance to them less ``margin`` (at least 1 mm); everyone else's
+    is ``threshold``. Source: issue "one configuration" (partners at the interaction's own
+    distance: the formation's member spacing, the queue spacing, the presenter's distance)."""
+    out = np.full(len(social.people), float(threshold))
+    if not social.people:
+        return out
+    members: set[int] = set()
+    for g in social.groups:
+        members.update(g.member_ids)
+    for q in social.queues:
+        members.update(q.member_ids)
+    for a in social.artworks:
+        members.update(a.viewer_ids)
+    gaps = np.linalg.norm(social.positions() - np.asarray(spot, dtype=float)[:2], axis=1)
+    for k, person in enumerate(social.people):
+        if person.id in members and gaps[k] < threshold:
+            out[k] = max(float(gaps[k]) - margin, 1e-3)
+    return out
 
 
 # ---------------------------------------------------------------------------------------------

@@ -98,6 +98,7 @@ from socialnav.core.trajectories import Trajectories
 from socialnav.planner import kernels
 from socialnav.planner.cache import PeopleDistances
 from socialnav.planner.critics.base import CRITICS, Critic, CriticScore
+from socialnav.social.goals import interaction_distances
 from socialnav.world.grid import INSCRIBED, LETHAL, Costmap
 
 if TYPE_CHECKING:
@@ -457,21 +458,9 @@ def _partner_thresholds(ctx: PlanningContext, threshold: float, margin: float) -
         return out
     if getattr(sg, "is_waypoint", False):
         return out
-    spot = np.asarray(sg.pose, dtype=float)[:2]
     if not np.allclose(np.asarray(sg.pose, dtype=float), ctx.goal):
         return out  # steering elsewhere (e.g. a waypoint first): nobody is a partner yet
-    members: set[int] = set()
-    for g in social.groups:
-        members.update(g.member_ids)
-    for q in social.queues:
-        members.update(q.member_ids)
-    for a in social.artworks:
-        members.update(a.viewer_ids)
-    gaps = np.linalg.norm(social.positions() - spot, axis=1)
-    for k, person in enumerate(social.people):
-        if person.id in members and gaps[k] < threshold:
-            out[k] = max(float(gaps[k]) - margin, 1e-3)
-    return out
+    return interaction_distances(social, sg.pose, threshold, margin)
 
 
 @CRITICS.register("interpersonal")
