@@ -4,18 +4,23 @@ objective scores them, so the plan to a free spot in a group does not go round t
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
+from socialnav.core.errors import ConfigurationError, InvalidInputError
 from socialnav.core.robot import PR2
-from socialnav.core.scene import Group, Person, Queue, SocialContext
+from socialnav.core.scene import HUMAN_RADIUS, Group, Person, Queue, SocialContext
 from socialnav.planner.navigator import Navigator
 from socialnav.planner.presets import (
     PARTNER_SPACING,
     PRESETS,
     build_navigator,
     personal_space_layer,
+    spacing_on,
 )
+from socialnav.sim.stack import StackController
 from socialnav.social.goals import interaction_distances
 from socialnav.social.proxemics import PERSONAL
 from socialnav.world.grid import Costmap, GridGeometry
@@ -106,7 +111,9 @@ def test_partner_spacing_needs_layers_that_take_partners_and_a_bool():
     def old_layer(costmap: Costmap, social: SocialContext) -> Costmap:
         return costmap
 
-    with pytest.raises(ValueError, match="global_layer that takes partners"):
+    with pytest.raises(
+        ValueError, match=r"global_layer that takes partners=.*partner_spacing=False"
+    ):
         Navigator(
             PR2,
             nav.local_planner,
@@ -140,3 +147,67 @@ def test_only_a_stopping_social_goal_has_partners():
     assert nav._partners(social, waypoint) == {}
     nav.partner_spacing = False
     assert nav._partners(social, spot) == {}
+
+
+@pytest.mark.parametrize("bad", [0.0, -0.5, float("nan"), float("inf"), "0.8", True])
+def test_a_partners_distance_must_be_a_finite_positive_number(bad):
+    social = SocialContext((Person(1, (0.0, 0.0)), Person(2, (1.5, 0.0))))
+    with pytest.raises(InvalidInputError, match="partners: person 2"):
+        personal_space_layer(room(), social, partners={2: bad})
+
+
+def test_a_partner_is_never_drawn_narrower_than_their_body_and_strangers_ids_are_ignored():
+    """A member standing on the spot (``interaction_distances``' 1 mm floor) stays on the map:
+    a Gaussian narrower than a cell vanished from it. A partner id not in view changes
+    nothing (the navigator's partners are the whole scene's)."""
+    social = SocialContext((Person(1, (0.0, 0.0)),))
+    on_spot = personal_space_layer(room(), social, partners={1: 1e-3})
+    body = personal_space_layer(room(), social, partners={1: HUMAN_RADIUS})
+    np.testing.assert_array_equal(on_spot.costs, body.costs)
+    assert cost_at(on_spot, 0.1, 0.1) > 150
+    plain = personal_space_layer(room(), social)
+    np.testing.assert_array_equal(
+        personal_space_layer(room(), social, partners={9: 0.5}).costs, plain.costs
+    )
+
+
+def test_bug_a_truthy_non_bool_switched_partner_spacing_on():
+    """Newcomer trial: ``replace(paccet, partner_spacing="no")`` was accepted and built a
+    navigator with the option on. Every way in now refuses a non-bool, naming the field;
+    NumPy's bool is stored as Python's."""
+    paccet = PRESETS.get("paccet")
+    with pytest.raises(ConfigurationError, match="partner_spacing must be a bool"):
+        replace(paccet, partner_spacing="no")
+    assert replace(paccet, partner_spacing=np.bool_(False)).partner_spacing is False
+    with pytest.raises(ConfigurationError, match="partner_spacing"):
+        StackController("paccet", partner_spacing="no")  # type: ignore[arg-type]
+    with pytest.raises(ConfigurationError, match="partner_spacing"):
+        build_navigator("paccet", PR2, room(), np.zeros(3), SocialContext(), partner_spacing=0)  # type: ignore[arg-type]
+
+
+def test_the_builders_switch_partner_spacing_off_and_only_the_personal_space_layers_use_it():
+    off = build_navigator(
+        "paccet", PR2, room(), np.zeros(3), SocialContext(), partner_spacing=False
+    )
+    assert off.partner_spacing is False
+    assert StackController("paccet", partner_spacing=False).partner_spacing is False
+    assert PRESETS.get("paccet").partner_spacing is True  # the registry is untouched
+    paccet = PRESETS.get("paccet")
+    assert spacing_on(paccet)
+    # A variant on the proxemic layer (no partners there) builds with the option off rather
+    # than failing at run time; without the social global plan there is nothing to draw.
+    assert not spacing_on(replace(paccet, proxemic_layer=True))
+    assert not spacing_on(replace(paccet, social_global_path=False))
+    assert not spacing_on(PRESETS.get("traditional"))
+
+
+def test_a_layer_taking_keyword_arguments_takes_partners():
+    nav = build_navigator("paccet", PR2, room(), np.zeros(3), SocialContext())
+
+    def by_kwargs(costmap: Costmap, social: SocialContext, **options: object) -> Costmap:
+        return costmap
+
+    kept = Navigator(
+        PR2, nav.local_planner, room(), np.zeros(3), global_layer=by_kwargs, partner_spacing=True
+    )
+    assert kept.partner_spacing is True

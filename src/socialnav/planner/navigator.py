@@ -143,6 +143,16 @@ class _PendingPlan:
 _PARTNER_RULE = InterpersonalCritic()
 
 
+def _takes_partners(layer: Callable[..., Costmap]) -> bool:
+    """Whether ``layer`` accepts a ``partners=`` keyword (by name or through ``**kwargs``)."""
+    params = inspect.signature(layer).parameters.values()
+    return any(
+        p.kind is inspect.Parameter.VAR_KEYWORD
+        or (p.name == "partners" and p.kind is not inspect.Parameter.POSITIONAL_ONLY)
+        for p in params
+    )
+
+
 def _drawn(
     layer: CostmapLayer,
     costmap: Costmap,
@@ -232,12 +242,16 @@ class Navigator:
                 raise ValueError(f"{name} must be a finite number >= 0, got {value!r}")
         if detour_limit > 0 and detour_layer is None:
             raise ValueError("detour_limit needs a detour_layer (the plan it is compared with)")
-        if not isinstance(partner_spacing, bool):
+        if not isinstance(partner_spacing, bool | np.bool_):
             raise ValueError(f"partner_spacing must be a bool, got {partner_spacing!r}")
+        partner_spacing = bool(partner_spacing)
         if partner_spacing:
             for name, layer in (("global_layer", global_layer), ("detour_layer", detour_layer)):
-                if layer is not None and "partners" not in inspect.signature(layer).parameters:
-                    raise ValueError(f"partner_spacing needs a {name} that takes partners=")
+                if layer is not None and not _takes_partners(layer):
+                    raise ValueError(
+                        f"partner_spacing needs a {name} that takes partners= (or set"
+                        " partner_spacing=False)"
+                    )
         self.partner_spacing = partner_spacing
         self.contact_guard = contact_guard
         self.meeting_layer = meeting_layer

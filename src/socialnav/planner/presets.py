@@ -50,11 +50,17 @@ from typing import Any, Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from socialnav.core.errors import ConfigurationError, is_non_negative_number, with_overrides
+from socialnav.core.errors import (
+    ConfigurationError,
+    InvalidInputError,
+    checked_bool,
+    is_non_negative_number,
+    with_overrides,
+)
 from socialnav.core.geometry import FloatArray
 from socialnav.core.registry import Registry
 from socialnav.core.robot import RobotModel
-from socialnav.core.scene import SocialContext
+from socialnav.core.scene import HUMAN_RADIUS, SocialContext
 from socialnav.moo.paccet import PaccetOptions
 from socialnav.moo.scalarize import L1Target, Weighted
 from socialnav.moo.selection import PaccetSelection, SelectionStrategy, WeightedSum
@@ -120,8 +126,9 @@ class PlannerPreset:
     #: ``Navigator.contact_guard``: no command closes the footprint on a person it touches
     #: (:mod:`~socialnav.planner.contact_guard`); None: off
     contact_guard: ContactGuardParams | None = None
-    #: ``Navigator.partner_spacing`` with ``social_global_path``: the social goal's interaction
-    #: partners at the interaction's own distance in the global plan (``PARTNER_SPACING``)
+    #: ``Navigator.partner_spacing``: the social goal's interaction partners at the
+    #: interaction's own distance in the global plan (``PARTNER_SPACING``); acts only on the
+    #: ``social_global_path`` layers (not with ``proxemic_layer``, whose layer has no partners)
     partner_spacing: bool = False
 
     def __post_init__(self) -> None:
@@ -137,6 +144,10 @@ class PlannerPreset:
                     f"planner preset {self.description!r}: {name} must be a finite number >= 0,"
                     f" got {value!r}"
                 )
+        spacing = checked_bool(
+            self.partner_spacing, f"planner preset {self.description!r}: partner_spacing"
+        )
+        object.__setattr__(self, "partner_spacing", spacing)
 
 
 PRESETS: Registry[PlannerPreset] = Registry("planner preset")
@@ -565,7 +576,9 @@ RECOMMENDED_CONTACT_GUARD = ContactGuardParams()
 #: −0.001 to −0.006 m. group_lead 0–59: 120 → 120 passes, 1.108 → 1.092 / 1.037 → 1.026;
 #: gallery_pass (a waypoint, no partners) every run identical. Without a stopping social
 #: goal nothing changes: hallway, crowdnav and the recorded crowds (dev seeds 0–89: all 360
-#: episodes identical).
+#: episodes identical). The cost: the robot comes straight in past its partners, so its time
+#: within 1.2 m of anyone, partners included, rises (reporting seeds 10000–10199, family
+#: means +0.02 to +0.69 s). Per run: ``StackController("paccet", partner_spacing=False)``.
 PARTNER_SPACING = True
 
 
@@ -766,11 +779,16 @@ def build_local_planner(
     return LocalPlanner(robot, objectives, selection, p, objective_set=scene)
 
 
-def preset_with(name: str, detour_limit: float | None = None) -> PlannerPreset:
-    """Preset ``name`` with a per-run ``detour_limit`` (``None``: its own). Raises
-    ``ConfigurationError`` for an unknown name, a limit that is not a finite number >= 0, or
-    a positive one for a preset without a social global plan."""
+def preset_with(
+    name: str, detour_limit: float | None = None, partner_spacing: bool | None = None
+) -> PlannerPreset:
+    """Preset ``name`` with a per-run ``detour_limit`` and ``partner_spacing`` (``None``: its
+    own). Raises ``ConfigurationError`` for an unknown name, a limit that is not a finite
+    number >= 0, a positive one for a preset without a social global plan, or a
+    ``partner_spacing`` that is not a bool."""
     preset = PRESETS.get(name)
+    if partner_spacing is not None:
+        preset = replace(preset, partner_spacing=partner_spacing)  # checked by the preset
     if detour_limit is None:
         return preset
     if detour_limit and not preset.social_global_path:
@@ -793,6 +811,7 @@ def build_navigator(
     replan_mode: ReplanMode = "inline",
     replan_delay: int = 2,
     detour_limit: float | None = None,
+    partner_spacing: bool | None = None,
 ) -> Navigator:
     """The stack of preset ``name``: global plan, local planner with recoveries, social goal.
 
@@ -804,14 +823,15 @@ def build_navigator(
     ``planner_frequency`` (Hz, move_base: periodic global replanning); ``global_search``,
     ``replan_mode`` and ``replan_delay`` as in :class:`Navigator` (rate-separated replanning;
     the defaults replan inline with SciPy's Dijkstra); ``detour_limit`` as in
-    :class:`Navigator` (``None``: the preset's; 0 switches it off). The objective set follows
+    :class:`Navigator` (``None``: the preset's; 0 switches it off); ``partner_spacing`` likewise
+    (``None``: the preset's, ``False`` switches it off). The objective set follows
     the people in view every cycle (:class:`SceneObjectives`); ``social`` only seeds it.
     Raises ``ConfigurationError`` on an unknown preset or recovery field, a bad recovery value,
     a non-positive ``planner_frequency``
     or a ``detour_limit`` that is not a finite number >= 0 or is positive for a preset without
     a social global plan.
     """
-    preset = preset_with(name, detour_limit)
+    preset = preset_with(name, detour_limit, partner_spacing)
     if not (np.isfinite(planner_frequency) and planner_frequency > 0):
         raise ConfigurationError(f"planner_frequency must be positive, got {planner_frequency}")
     local = RecoveringPlanner(
@@ -859,8 +879,14 @@ def build_navigator(
         detour_layer=standing_space_layer if preset.social_global_path else None,
         detour_limit=preset.detour_limit if preset.social_global_path else 0.0,
         contact_guard=preset.contact_guard,
-        partner_spacing=preset.partner_spacing and preset.social_global_path,
+        partner_spacing=spacing_on(preset),
     )
+
+
+def spacing_on(preset: PlannerPreset) -> bool:
+    """Whether ``preset``'s navigator draws interaction partners at their own distance: its
+    ``partner_spacing``, on the personal-space layers of ``social_global_path`` only."""
+    return preset.partner_spacing and preset.social_global_path and not preset.proxemic_layer
 
 
 def proxemic_costs(geometry: GridGeometry, *args: Any, **kwargs: Any) -> NDArray[np.uint8]:
@@ -900,17 +926,19 @@ def personal_space_layer(
     """``costmap`` with a Gaussian personal-space cost per person (those ``drawn (K,)``, all
     by default) and every group's o-space cost. ``partners`` (person id → the interaction's
     own distance ``d`` in m, ``Navigator.partner_spacing``): that person's Gaussian is
-    narrowed by ``min(1, d / PERSONAL)`` (σ), so it costs at ``d`` what a stranger's costs at
-    the 1.2 m personal distance."""
+    narrowed by ``max(d, HUMAN_RADIUS) / PERSONAL`` (σ) when ``d`` is below the 1.2 m
+    personal distance, so it costs at ``d`` what a stranger's costs at 1.2 m (a partner at
+    1.2 m or more is drawn as anyone else, and never narrower than their body, so a partner
+    on the spot stays on the map). Ids not among ``social``'s people are ignored (the
+    navigator's partners are the whole scene's). Raises ``InvalidInputError`` naming the
+    person for a distance that is not a finite number > 0."""
     from socialnav.social.spaces import o_space
     from socialnav.world.costmap import combine_max
 
     if not social.people:
         return costmap
     positions, velocities = social.positions(), social.velocities()
-    scale = np.array(
-        [min(1.0, (partners or {}).get(p.id, PERSONAL) / PERSONAL) for p in social.people]
-    )
+    scale = np.array([_narrowing(partners, p.id) for p in social.people])
     if drawn is not None:
         positions, velocities, scale = positions[drawn], velocities[drawn], scale[drawn]
     costs = np.zeros(costmap.geometry.shape, dtype=np.uint8)
@@ -995,6 +1023,18 @@ def meeting_layers(robot: RobotModel) -> tuple[CostmapLayer, MeetingLayer]:
 def _walking(social: SocialContext) -> NDArray[np.bool_]:
     v = social.velocities().reshape(-1, 2)
     return np.asarray(np.hypot(v[:, 0], v[:, 1]) >= MEETING_LAYER["min_speed"])
+
+
+def _narrowing(partners: Mapping[int, float] | None, person: int) -> float:
+    """The factor on person ``person``'s Gaussian σ (:func:`personal_space_layer`)."""
+    if not partners or person not in partners:
+        return 1.0
+    d = partners[person]
+    if not is_non_negative_number(d) or d == 0:
+        raise InvalidInputError(
+            f"partners: person {person}'s distance must be a finite number > 0 (m), got {d!r}"
+        )
+    return min(1.0, max(float(d), HUMAN_RADIUS) / PERSONAL)
 
 
 def standing_space_layer(

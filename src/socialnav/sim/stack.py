@@ -43,6 +43,9 @@ class StackController:
     preset's); e.g. ``{"evasion_ttc": 0}`` switches evasion off.
     ``detour_limit``: the navigator's detour limit on the social global plan (``None``: the
     preset's, :data:`~socialnav.planner.presets.DETOUR_LIMIT` in ``paccet``; 0 switches it off).
+    ``partner_spacing``: whether the global plan draws the social goal's interaction partners
+    at the interaction's own distance (``None``: the preset's, on in ``paccet``; ``False``
+    switches it off; :data:`~socialnav.planner.presets.PARTNER_SPACING`).
     ``global_search``, ``replan_mode``, ``replan_delay``: the navigator's rate-separated
     replanning (:class:`~socialnav.planner.navigator.Navigator`). The defaults are the compiled
     search and ``"deferred"``: the plan requested at step k is applied at step k + 2 (on a
@@ -62,10 +65,12 @@ class StackController:
         replan_mode: str = "deferred",
         replan_delay: int = 2,
         detour_limit: float | None = None,
+        partner_spacing: bool | None = None,
     ) -> None:
         self.preset_spec = preset_with(preset)
-        preset_with(preset, detour_limit)  # a bad override fails here, not at reset
+        preset_with(preset, detour_limit, partner_spacing)  # a bad override fails here
         self.detour_limit = detour_limit
+        self.partner_spacing = partner_spacing
         self.preset = preset
         self.record = record
         self.params = with_overrides(self.preset_spec.params, params, "local planner")
@@ -112,6 +117,7 @@ class StackController:
             params=self.params,
             recovery=self.recovery,
             detour_limit=self.detour_limit,
+            partner_spacing=self.partner_spacing,
             **self.replan,  # type: ignore[arg-type]
         )
 
