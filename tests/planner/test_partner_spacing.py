@@ -149,11 +149,28 @@ def test_only_a_stopping_social_goal_has_partners():
     assert nav._partners(social, spot) == {}
 
 
-@pytest.mark.parametrize("bad", [0.0, -0.5, float("nan"), float("inf"), "0.8", True])
-def test_a_partners_distance_must_be_a_finite_positive_number(bad):
+@pytest.mark.parametrize("bad", [0.0, -0.5, float("nan"), float("inf"), "0.8", True, None])
+@pytest.mark.parametrize("person", [2, 999])  # in view or not: checked alike
+def test_a_partners_distance_must_be_a_finite_positive_number(bad, person):
     social = SocialContext((Person(1, (0.0, 0.0)), Person(2, (1.5, 0.0))))
-    with pytest.raises(InvalidInputError, match="partners: person 2"):
-        personal_space_layer(room(), social, partners={2: bad})
+    with pytest.raises(InvalidInputError, match=f"partners: person {person}'s distance"):
+        personal_space_layer(room(), social, partners={person: bad})
+
+
+@pytest.mark.parametrize(
+    ("bad", "match"),
+    [
+        ({"2": 0.8}, "person ids are ints"),
+        ({True: 0.8}, "person ids are ints"),
+        ([(2, 0.8)], "must be a mapping"),
+    ],
+)
+def test_partners_is_a_mapping_of_int_ids(bad, match):
+    """Newcomer trial: a string id or a list of pairs changed nothing, without a word."""
+    social = SocialContext((Person(1, (0.0, 0.0)), Person(2, (1.5, 0.0))))
+    with pytest.raises(InvalidInputError, match=match):
+        personal_space_layer(room(), social, partners=bad)
+    assert personal_space_layer(room(), social, partners={np.int64(2): 0.8}).costs.any()
 
 
 def test_a_partner_is_never_drawn_narrower_than_their_body_and_strangers_ids_are_ignored():

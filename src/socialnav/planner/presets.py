@@ -924,17 +924,20 @@ def personal_space_layer(
     partners: Mapping[int, float] | None = None,
 ) -> Costmap:
     """``costmap`` with a Gaussian personal-space cost per person (those ``drawn (K,)``, all
-    by default) and every group's o-space cost. ``partners`` (person id → the interaction's
-    own distance ``d`` in m, ``Navigator.partner_spacing``): that person's Gaussian is
+    by default) and every group's o-space cost. ``partners`` (``Person.id`` (int) → the
+    interaction's own distance ``d`` in m, ``Navigator.partner_spacing``): that person's
+    Gaussian is
     narrowed by ``max(d, HUMAN_RADIUS) / PERSONAL`` (σ) when ``d`` is below the 1.2 m
     personal distance, so it costs at ``d`` what a stranger's costs at 1.2 m (a partner at
     1.2 m or more is drawn as anyone else, and never narrower than their body, so a partner
     on the spot stays on the map). Ids not among ``social``'s people are ignored (the
-    navigator's partners are the whole scene's). Raises ``InvalidInputError`` naming the
-    person for a distance that is not a finite number > 0."""
+    navigator's partners are the whole scene's). Raises ``InvalidInputError`` for a
+    ``partners`` that is not a mapping, a key that is not an int, or a distance that is not a
+    finite number > 0 (naming the person), whether or not that person is in view."""
     from socialnav.social.spaces import o_space
     from socialnav.world.costmap import combine_max
 
+    _check_partners(partners)
     if not social.people:
         return costmap
     positions, velocities = social.positions(), social.velocities()
@@ -1025,16 +1028,31 @@ def _walking(social: SocialContext) -> NDArray[np.bool_]:
     return np.asarray(np.hypot(v[:, 0], v[:, 1]) >= MEETING_LAYER["min_speed"])
 
 
+def _check_partners(partners: object) -> None:
+    """Raise ``InvalidInputError`` unless ``partners`` is None or a mapping of int person ids
+    to finite distances > 0 (m) (:func:`personal_space_layer`)."""
+    if partners is None:
+        return
+    if not isinstance(partners, Mapping):
+        raise InvalidInputError(
+            f"partners must be a mapping of person id (int) to distance (m), got"
+            f" {type(partners).__name__}"
+        )
+    for person, d in partners.items():
+        if isinstance(person, bool) or not isinstance(person, int | np.integer):
+            raise InvalidInputError(f"partners: person ids are ints (Person.id), got {person!r}")
+        if not is_non_negative_number(d) or d == 0:
+            raise InvalidInputError(
+                f"partners: person {person}'s distance must be a finite number > 0 (m), got {d!r}"
+            )
+
+
 def _narrowing(partners: Mapping[int, float] | None, person: int) -> float:
-    """The factor on person ``person``'s Gaussian σ (:func:`personal_space_layer`)."""
+    """The factor on person ``person``'s Gaussian σ (:func:`personal_space_layer`; the
+    mapping is checked there)."""
     if not partners or person not in partners:
         return 1.0
-    d = partners[person]
-    if not is_non_negative_number(d) or d == 0:
-        raise InvalidInputError(
-            f"partners: person {person}'s distance must be a finite number > 0 (m), got {d!r}"
-        )
-    return min(1.0, max(float(d), HUMAN_RADIUS) / PERSONAL)
+    return min(1.0, max(float(partners[person]), HUMAN_RADIUS) / PERSONAL)
 
 
 def standing_space_layer(

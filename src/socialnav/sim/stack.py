@@ -70,7 +70,7 @@ class StackController:
         self.preset_spec = preset_with(preset)
         preset_with(preset, detour_limit, partner_spacing)  # a bad override fails here
         self.detour_limit = detour_limit
-        self.partner_spacing = partner_spacing
+        self.partner_spacing = None if partner_spacing is None else bool(partner_spacing)
         self.preset = preset
         self.record = record
         self.params = with_overrides(self.preset_spec.params, params, "local planner")
