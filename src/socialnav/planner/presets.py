@@ -925,12 +925,11 @@ def personal_space_layer(
 ) -> Costmap:
     """``costmap`` with a Gaussian personal-space cost per person (those ``drawn (K,)``, all
     by default) and every group's o-space cost. ``partners`` (``Person.id`` (int) → the
-    interaction's own distance ``d`` in m, ``Navigator.partner_spacing``): that person's
-    Gaussian is
-    narrowed by ``max(d, HUMAN_RADIUS) / PERSONAL`` (σ) when ``d`` is below the 1.2 m
-    personal distance, so it costs at ``d`` what a stranger's costs at 1.2 m (a partner at
-    1.2 m or more is drawn as anyone else, and never narrower than their body, so a partner
-    on the spot stays on the map). Ids not among ``social``'s people are ignored (the
+    interaction's own distance ``d`` in m, ``Navigator.partner_spacing``): below the 1.2 m
+    personal distance, that person's Gaussian is narrowed by ``max(d, HUMAN_RADIUS) /
+    PERSONAL`` (σ), so it costs at ``d`` what a stranger's costs at 1.2 m (a partner at 1.2 m
+    or more is drawn as anyone else, and never narrower than their body, so a partner on the
+    spot stays on the map). Ids not among ``social``'s people are ignored (the
     navigator's partners are the whole scene's). Raises ``InvalidInputError`` for a
     ``partners`` that is not a mapping, a key that is not an int, or a distance that is not a
     finite number > 0 (naming the person), whether or not that person is in view."""
