@@ -94,7 +94,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy.ndimage import distance_transform_edt
 
-from socialnav.core.errors import is_non_negative_number
+from socialnav.core.errors import checked_bool, is_non_negative_number
 from socialnav.core.geometry import FloatArray, wrap_angle
 from socialnav.core.robot import RobotModel
 from socialnav.core.scene import SocialContext
@@ -242,9 +242,7 @@ class Navigator:
                 raise ValueError(f"{name} must be a finite number >= 0, got {value!r}")
         if detour_limit > 0 and detour_layer is None:
             raise ValueError("detour_limit needs a detour_layer (the plan it is compared with)")
-        if not isinstance(partner_spacing, bool | np.bool_):
-            raise ValueError(f"partner_spacing must be a bool, got {partner_spacing!r}")
-        partner_spacing = bool(partner_spacing)
+        partner_spacing = checked_bool(partner_spacing, "partner_spacing")  # a ValueError
         if partner_spacing:
             for name, layer in (("global_layer", global_layer), ("detour_layer", detour_layer)):
                 if layer is not None and not _takes_partners(layer):
