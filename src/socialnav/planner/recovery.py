@@ -680,6 +680,11 @@ class RecoveringPlanner:
             flees = -progress - here > p.evasion_max_retreat
             if ((gaps > 0) & ~flees).any():
                 gaps = np.where(flees, -np.inf, gaps)
+        # Measured and not kept: a 0.15 m tie (generated dev seeds 0-59 of crowdnav,
+        # crowdnav_visible, hallway and mixed, both robots: 472 -> 469 passes, collision runs
+        # 2 -> 4, time ratio to hl -0.02 to +0.01). A Pioneer giving way to a walker who keeps
+        # coming can circle on the spot at full speed: each cycle's best move is an arc driven
+        # for a few seconds, and the next cycle chooses again before the hold (crowdnav dev 10).
         tied = gaps >= float(gaps.max()) - 0.05
         k = int(np.argmax(np.where(tied, progress, -np.inf)))
         short = gaps[k] < float(clear.min()) - 1e-6  # nearer than the personal distance
