@@ -286,6 +286,13 @@ SOCIAL_INDIFFERENCE = 0.001
 #: because the closest approach falls after the rollout (Table 1 PR2 time 11.5 s without, 11.0 s
 #: with). 3 s: the Pioneer stopped in hallway_oncoming's lane and the walker passed at 0.95 m;
 #: 2 s and below: the PR2 of navground's Cross example froze mid-crossing and reached no target.
+#: It also makes the robot yield early to walkers far ahead (mixed dev seed 73, Pioneer: it
+#: stopped with the walker 6.9 m away and stood 6 s while they crossed its way). Measured and
+#: not kept, generated dev seeds 0–59 of crowdnav, crowdnav_visible, hallway and mixed, both
+#: robots (472 passes, 2 collision runs): ID's threshold 1.3 m for everyone walking (0.3 m/s
+#: or faster), 472 passes, 3 collision runs, time ratio to hl crowdnav PR2 1.20 → 1.17 and
+#: mixed PR2 1.35 → 1.27, but crowdnav_visible and mixed on the Pioneer unchanged (1.31 →
+#: 1.32, 1.45 → 1.46).
 PASSING_HORIZON = 2.5
 #: ``paccet``'s arrival at a social spot (m, rad): inside the generated suite's 0.10 m / 0.2 rad
 #: (the social goals' default 0.25 m / 0.25 rad ends 0.24–0.25 m from the spot)
