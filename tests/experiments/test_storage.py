@@ -11,6 +11,7 @@ import pyarrow.parquet as pq
 import pytest
 
 from socialnav.core.episode import EpisodeRecord
+from socialnav.core.errors import InvalidInputError
 from socialnav.core.robot import PIONEER, PR2
 from socialnav.core.scene import Artwork, Group, Person, Queue, SocialContext
 from socialnav.experiments.storage import (
@@ -229,3 +230,42 @@ def test_different_records_do_not_load_equal(tmp_path: Path) -> None:
 def test_an_unknown_format_is_refused(tmp_path: Path) -> None:
     with pytest.raises(ValueError, match="xml"):
         save_episode(rich_record(), tmp_path, fmt="xml")
+
+
+def test_bug_a_malformed_episode_json_did_not_name_the_file(tmp_path: Path) -> None:
+    folder = save_episode(rich_record(), tmp_path / "episode")
+    path = folder / EPISODE_FILE
+    path.write_text('{"dt": 0.1,')  # cut short
+    with pytest.raises(InvalidInputError, match=r"episode\.json: not valid JSON"):
+        load_episode(folder)
+    path.write_text("[1, 2]")
+    with pytest.raises(InvalidInputError, match=r"episode\.json: .*JSON object"):
+        load_episode(folder)
+
+
+def test_an_episode_json_without_a_field_names_the_file_and_the_field(tmp_path: Path) -> None:
+    folder = save_episode(rich_record(), tmp_path / "episode")
+    path = folder / EPISODE_FILE
+    static = json.loads(path.read_text())
+    del static["people_ids"], static["time_limit"]
+    path.write_text(json.dumps(static))
+    with pytest.raises(InvalidInputError, match=r"episode\.json: .*'people_ids', 'time_limit'"):
+        load_episode(folder)
+
+
+def test_a_trajectory_row_of_someone_not_in_the_episode_names_the_table(tmp_path: Path) -> None:
+    folder = save_episode(rich_record(), tmp_path / "episode")
+    path = folder / EPISODE_FILE
+    static = json.loads(path.read_text())
+    static["people_ids"] = static["people_ids"][:-1]
+    static["people_radii"] = static["people_radii"][:-1]
+    path.write_text(json.dumps(static))
+    with pytest.raises(InvalidInputError, match=rf"{TRAJECTORY_FILE}: .*person 20"):
+        load_episode(folder)
+
+
+def test_a_missing_step_table_names_the_file(tmp_path: Path) -> None:
+    folder = save_episode(rich_record(), tmp_path / "episode")
+    (folder / TRAJECTORY_FILE).unlink()
+    with pytest.raises(FileNotFoundError, match=TRAJECTORY_FILE):
+        load_episode(folder)

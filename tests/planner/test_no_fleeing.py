@@ -13,7 +13,7 @@ from _planner_helpers import context, world
 
 from socialnav.core.errors import ConfigurationError
 from socialnav.core.robot import PIONEER, PR2, RobotModel
-from socialnav.core.scene import Person, SocialContext
+from socialnav.core.scene import Group, Person, SocialContext
 from socialnav.planner.local_planner import PlannerStatus
 from socialnav.planner.presets import RECOMMENDED_RECOVERY, build_local_planner
 from socialnav.planner.recovery import RecoveringPlanner, RecoveryParams
@@ -238,3 +238,25 @@ def test_bug_pioneer_left_facing_back_along_a_wall_inched_until_the_time_limit()
     assert failed == []
     assert float(record.times[-1]) < 40.0
     assert "ROTATING_TO_PLAN" in set(record.status)
+
+
+@pytest.mark.parametrize("robot", [PIONEER, PR2])
+def test_bug_giving_way_beside_a_walking_group_stopped_the_loop(robot: RobotModel):
+    # A walking group has no o-space; the legality check of giving way combined "no o-space
+    # test" (Python's False, whose ~ is -1) with a bool mask and raised, which the navigator
+    # reported as INVALID_INPUT every cycle (recorded crowds, --context detected, eth_hotel
+    # seed 1: 37 cycles).
+    pair = (
+        Person(2, (8.0, 0.7), (-1.2, 0.0), np.pi),
+        Person(3, (8.0, 0.2), (-1.2, 0.0), np.pi),
+    )
+    cm, _ = world(12.0, 4.0, [], robot)
+    social = SocialContext((_walker(6.0), *pair), groups=(Group((2, 3), mode="walking"),))
+    planner = _loop(robot, RECOMMENDED_RECOVERY)
+    out = planner.plan(
+        context(
+            cm, robot, (3.0, 2.0, 0.0), PATH, GOAL, social=social, time=0.0, predict_people=True
+        )
+    )
+    assert out.status == PlannerStatus.EVADING, out.message
+    assert "giving way" in out.message or "timed pass" in out.message

@@ -29,6 +29,7 @@ import pyarrow.csv as pacsv
 import pyarrow.parquet as pq
 
 from socialnav.core.episode import EpisodeRecord
+from socialnav.core.errors import InvalidInputError
 from socialnav.core.scene import Artwork, Group, Person, Queue, SocialContext
 from socialnav.core.success import ConditionSpec
 from socialnav.social.structures import make_structure, structure_to_dict
@@ -178,9 +179,54 @@ def save_episode(record: EpisodeRecord, folder: Path, fmt: str = "parquet") -> P
     return folder
 
 
+#: the fields of ``episode.json`` that :func:`load_episode` needs (``success`` and
+#: ``trajectory_format`` have defaults)
+EPISODE_FIELDS = (
+    "dt",
+    "robot_footprint",
+    "robot_radius",
+    "people_ids",
+    "people_radii",
+    "start",
+    "goal",
+    "target",
+    "waypoint",
+    "goal_tolerance",
+    "time_limit",
+    "family",
+    "scenario",
+    "walls",
+    "obstacles",
+    "context",
+    "meta",
+)
+
+
+def _episode_json(path: Path) -> dict[str, Any]:
+    """``episode.json`` as a dict; ``InvalidInputError`` naming ``path`` (and the fields) when it
+    is not a JSON object holding every one of :data:`EPISODE_FIELDS`."""
+    try:
+        static = json.loads(path.read_text())
+    except json.JSONDecodeError as exc:
+        raise InvalidInputError(f"{path}: not valid JSON ({exc})") from None
+    if not isinstance(static, dict):
+        raise InvalidInputError(f"{path}: expected a JSON object, got {type(static).__name__}")
+    missing = [name for name in EPISODE_FIELDS if name not in static]
+    if missing:
+        raise InvalidInputError(
+            f"{path}: missing field(s) {', '.join(map(repr, missing))}; not an episode that "
+            "save_episode wrote"
+        )
+    return static
+
+
 def load_episode(folder: Path) -> EpisodeRecord:
-    """Rebuild the :class:`EpisodeRecord` written by :func:`save_episode`."""
-    static = json.loads((folder / EPISODE_FILE).read_text())
+    """Rebuild the :class:`EpisodeRecord` written by :func:`save_episode`.
+
+    Raises ``InvalidInputError`` naming the file when ``episode.json`` is not valid JSON or
+    lacks a field (naming the fields), or when the step table has rows of someone the episode
+    does not list; ``FileNotFoundError`` (naming the file) when a file is missing."""
+    static = _episode_json(folder / EPISODE_FILE)
     if static.get("trajectory_format", "parquet") == "csv":
         table = pacsv.read_csv(
             folder / "trajectory.csv",
@@ -215,6 +261,15 @@ def load_episode(folder: Path) -> EpisodeRecord:
     person = ~robot
     slot = {int(pid): k for k, pid in enumerate(ids)}
     t_idx = col["step"][person].astype(int)
+    unknown = sorted({int(i) for i in col["agent_id"][person]} - set(slot))
+    if unknown:
+        table_file = (
+            "trajectory.csv" if static.get("trajectory_format") == "csv" else TRAJECTORY_FILE
+        )
+        raise InvalidInputError(
+            f"{folder / table_file}: rows of person {', '.join(map(str, unknown))}, whom "
+            f"{EPISODE_FILE}'s people_ids do not list"
+        )
     k_idx = np.array([slot[int(i)] for i in col["agent_id"][person]], dtype=int)
     positions[t_idx, k_idx] = np.stack([col["x"][person], col["y"][person]], axis=1)
     velocities[t_idx, k_idx] = np.stack([col["vx"][person], col["vy"][person]], axis=1)

@@ -749,7 +749,9 @@ class RecoveringPlanner:
         way once stepped into a group's o-space, where no trajectory of the planner was legal."""
         ok = np.isfinite(self._occupancy.score(trajs, ctx).cost)
         if ctx.social.groups:
-            ok &= ~self._ospace.score(trajs, ctx).illegal.get("ospace_intrusion", False)
+            inside = self._ospace.score(trajs, ctx).illegal.get("ospace_intrusion")
+            if inside is not None:  # walking groups have no o-space, and no such mask
+                ok &= ~np.asarray(inside, dtype=bool)
         return ok
 
     # ---- recoveries -----------------------------------------------------------------------
