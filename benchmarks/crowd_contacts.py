@@ -5,10 +5,9 @@ of ``socialnav compare --suite crowds … --out DIR``. It reads every episode fo
 ``DIR/runs`` (earlier calls into the same folder included, while the report covers the latest
 call) and prints two Markdown tables to stdout.
 
-A replayed pedestrian appears where their track begins — at a door or a tram stop inside the
-annotated area as well as at its border — and does not react to the robot; someone already
-walking 1–2 m from the start (the suite keeps only the first metre clear) can reach the robot
-in its first second. Some passive contacts (:mod:`socialnav.metrics.crowd`: the robot stopped
+A replayed pedestrian appears where their track begins — inside the annotated area as well as
+at its border — and does not react to the robot; someone already walking 1–2 m from the start
+(the suite keeps only the first metre clear) can reach the robot in its first second. Some passive contacts (:mod:`socialnav.metrics.crowd`: the robot stopped
 or moving away) are therefore with people the robot had little time to avoid. For each
 contact event this script takes the time the person had been *in view* when it began: present
 in the episode's record without a gap (a track that drops out and comes back counts from its
