@@ -264,8 +264,41 @@ def test_a_trajectory_row_of_someone_not_in_the_episode_names_the_table(tmp_path
         load_episode(folder)
 
 
-def test_a_missing_step_table_names_the_file(tmp_path: Path) -> None:
+def test_a_missing_step_table_names_the_file_and_says_it_is_missing(tmp_path: Path) -> None:
     folder = save_episode(rich_record(), tmp_path / "episode")
     (folder / TRAJECTORY_FILE).unlink()
-    with pytest.raises(FileNotFoundError, match=TRAJECTORY_FILE):
+    with pytest.raises(FileNotFoundError, match=rf"{TRAJECTORY_FILE}: no such file"):
+        load_episode(folder)
+
+
+@pytest.mark.parametrize(
+    ("field", "value", "message"),
+    [
+        ("dt", "0.1", "'dt' must be a positive number"),
+        ("dt", 0, "'dt' must be a positive number"),
+        ("robot_footprint", [[1]], "'robot_footprint' must be a polygon"),
+        ("meta", [1, 2], "'meta' must be an object"),
+        ("people_ids", None, "'people_ids' must be a list of integers"),
+        ("people_ids", [3, 7, 11, 12, "20"], "'people_ids' must be a list of integers"),
+        ("people_radii", [0.3], "'people_radii' must list one radius per id"),
+    ],
+)
+def test_a_field_of_the_wrong_type_or_shape_names_the_file_and_the_field(
+    tmp_path: Path, field: str, value: object, message: str
+) -> None:
+    # each of these loaded (or raised a bare TypeError) and broke a metric later
+    folder = save_episode(rich_record(), tmp_path / "episode")
+    path = folder / EPISODE_FILE
+    static = json.loads(path.read_text())
+    static[field] = value
+    path.write_text(json.dumps(static))
+    with pytest.raises(InvalidInputError, match=rf"episode\.json: field {message}"):
+        load_episode(folder)
+
+
+def test_a_folder_given_as_a_string_loads_and_a_missing_file_says_so(tmp_path: Path) -> None:
+    folder = save_episode(rich_record(), tmp_path / "episode")
+    assert_records_equal(load_episode(str(folder)), load_episode(folder))
+    (folder / EPISODE_FILE).unlink()
+    with pytest.raises(FileNotFoundError, match=r"episode\.json: no such file"):
         load_episode(folder)

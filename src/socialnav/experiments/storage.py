@@ -19,6 +19,7 @@ into the world frame. ``episode.json`` holds the rest; ``load_episode`` rebuilds
 from __future__ import annotations
 
 import json
+import math
 from dataclasses import asdict
 from pathlib import Path
 from typing import Any
@@ -220,13 +221,67 @@ def _episode_json(path: Path) -> dict[str, Any]:
     return static
 
 
-def load_episode(folder: Path) -> EpisodeRecord:
-    """Rebuild the :class:`EpisodeRecord` written by :func:`save_episode`.
+def _check_fields(path: Path, static: dict[str, Any]) -> None:
+    """The fields a record would take but fail on later (``InvalidInputError`` naming them)."""
+    dt = static["dt"]
+    if (
+        isinstance(dt, bool)
+        or not isinstance(dt, int | float)
+        or not (math.isfinite(dt) and dt > 0)
+    ):
+        raise InvalidInputError(
+            f"{path}: field 'dt' must be a positive number of seconds, got {dt!r}"
+        )
+    try:
+        footprint = np.asarray(static["robot_footprint"], dtype=float)
+    except (TypeError, ValueError):
+        footprint = np.zeros((0, 0))
+    if footprint.ndim != 2 or footprint.shape[1:] != (2,) or len(footprint) < 3:
+        raise InvalidInputError(
+            f"{path}: field 'robot_footprint' must be a polygon of at least 3 (x, y) vertices, "
+            f"got {static['robot_footprint']!r}"
+        )
+    if not isinstance(static["meta"], dict):
+        raise InvalidInputError(f"{path}: field 'meta' must be an object, got {static['meta']!r}")
+    ids, radii = static["people_ids"], static["people_radii"]
+    if not isinstance(ids, list) or not all(type(i) is int for i in ids):
+        raise InvalidInputError(f"{path}: field 'people_ids' must be a list of integers")
+    if not isinstance(radii, list) or len(radii) != len(ids):
+        raise InvalidInputError(
+            f"{path}: field 'people_radii' must list one radius per id of 'people_ids' ({len(ids)})"
+        )
 
-    Raises ``InvalidInputError`` naming the file when ``episode.json`` is not valid JSON or
-    lacks a field (naming the fields), or when the step table has rows of someone the episode
-    does not list; ``FileNotFoundError`` (naming the file) when a file is missing."""
-    static = _episode_json(folder / EPISODE_FILE)
+
+def load_episode(folder: Path | str) -> EpisodeRecord:
+    """Rebuild the :class:`EpisodeRecord` written by :func:`save_episode` in ``folder``.
+
+    Raises ``FileNotFoundError`` naming the file when ``episode.json`` or the step table is
+    missing, and ``InvalidInputError`` naming the file (and the field) when ``episode.json`` is
+    not valid JSON, lacks a field or holds one of the wrong type or shape, or when the step table
+    has rows of someone the episode does not list."""
+    folder = Path(folder)
+    path = folder / EPISODE_FILE
+    if not path.is_file():
+        raise FileNotFoundError(f"{path}: no such file (not an episode folder of save_episode)")
+    static = _episode_json(path)
+    _check_fields(path, static)
+    csv = static.get("trajectory_format", "parquet") == "csv"
+    table_path = folder / ("trajectory.csv" if csv else TRAJECTORY_FILE)
+    if not table_path.is_file():
+        raise FileNotFoundError(f"{table_path}: no such file (the episode's step table)")
+    try:
+        return _record_from(folder, static)
+    except InvalidInputError:
+        raise
+    except (TypeError, ValueError) as exc:
+        raise InvalidInputError(
+            f"{folder}: {EPISODE_FILE} and its step table do not make an episode "
+            f"({type(exc).__name__}: {exc})"
+        ) from None
+
+
+def _record_from(folder: Path, static: dict[str, Any]) -> EpisodeRecord:
+    """:func:`load_episode` once the files are there and ``episode.json`` is checked."""
     if static.get("trajectory_format", "parquet") == "csv":
         table = pacsv.read_csv(
             folder / "trajectory.csv",
@@ -236,7 +291,7 @@ def load_episode(folder: Path) -> EpisodeRecord:
         table = pq.read_table(folder / TRAJECTORY_FILE)
     missing = set(TRAJECTORY_SCHEMA.names) - set(table.column_names)
     if missing:
-        raise ValueError(
+        raise InvalidInputError(
             f"{folder}: the step table lacks {sorted(missing)}; it is not a long table as "
             "save_episode writes (one row per agent and step)"
         )
