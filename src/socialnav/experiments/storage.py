@@ -270,7 +270,7 @@ def load_episode(folder: Path | str) -> EpisodeRecord:
     if not table_path.is_file():
         raise FileNotFoundError(f"{table_path}: no such file (the episode's step table)")
     try:
-        return _record_from(folder, static)
+        return _record_from(folder, static, table_path)
     except InvalidInputError:
         raise
     except (TypeError, ValueError) as exc:
@@ -280,15 +280,14 @@ def load_episode(folder: Path | str) -> EpisodeRecord:
         ) from None
 
 
-def _record_from(folder: Path, static: dict[str, Any]) -> EpisodeRecord:
+def _record_from(folder: Path, static: dict[str, Any], table_path: Path) -> EpisodeRecord:
     """:func:`load_episode` once the files are there and ``episode.json`` is checked."""
-    if static.get("trajectory_format", "parquet") == "csv":
+    if table_path.suffix == ".csv":
         table = pacsv.read_csv(
-            folder / "trajectory.csv",
-            convert_options=pacsv.ConvertOptions(column_types=TRAJECTORY_SCHEMA),
+            table_path, convert_options=pacsv.ConvertOptions(column_types=TRAJECTORY_SCHEMA)
         )
     else:
-        table = pq.read_table(folder / TRAJECTORY_FILE)
+        table = pq.read_table(table_path)
     missing = set(TRAJECTORY_SCHEMA.names) - set(table.column_names)
     if missing:
         raise InvalidInputError(
@@ -318,11 +317,8 @@ def _record_from(folder: Path, static: dict[str, Any]) -> EpisodeRecord:
     t_idx = col["step"][person].astype(int)
     unknown = sorted({int(i) for i in col["agent_id"][person]} - set(slot))
     if unknown:
-        table_file = (
-            "trajectory.csv" if static.get("trajectory_format") == "csv" else TRAJECTORY_FILE
-        )
         raise InvalidInputError(
-            f"{folder / table_file}: rows of person {', '.join(map(str, unknown))}, whom "
+            f"{table_path}: rows of person {', '.join(map(str, unknown))}, whom "
             f"{EPISODE_FILE}'s people_ids do not list"
         )
     k_idx = np.array([slot[int(i)] for i in col["agent_id"][person]], dtype=int)
