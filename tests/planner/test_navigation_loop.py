@@ -2,10 +2,13 @@
 
 from __future__ import annotations
 
+import logging
+
 import numpy as np
 import pytest
 from _planner_helpers import collides, step_pose, world
 
+from socialnav.core.errors import InvalidInputError
 from socialnav.core.robot import PIONEER, PR2, RobotModel
 from socialnav.core.scene import SocialContext
 from socialnav.planner.local_planner import PlannerStatus, traditional_planner
@@ -127,3 +130,43 @@ def test_navigator_step_never_raises():
     assert res.status == PlannerStatus.INVALID_INPUT and np.all(res.cmd == 0)
     res = nav.step(0.0, np.array([1.0, 2.0, 0.0]), np.zeros(3), SocialContext())
     assert res.status == PlannerStatus.OK
+
+
+def test_an_internal_failure_is_said_so_and_logged_once_per_kind(caplog):
+    # A failure inside the step is not the input's: the status stays INVALID_INPUT (the loop
+    # must go on), but the message says "internal error" and the traceback is logged once.
+    cm, _ = world(8.0, 4.0, CORRIDOR, PR2)
+    calls = []
+
+    def broken(social, goal, pose):
+        calls.append(1)
+        raise RuntimeError("perception failed")
+
+    nav = Navigator(
+        PR2, traditional_planner(PR2), cm, np.array([6.5, 2.0, 0.0]), social_goal_fn=broken
+    )
+    with caplog.at_level(logging.ERROR, logger="socialnav.planner.navigator"):
+        for k in range(3):
+            res = nav.step(0.1 * k, np.array([1.0, 2.0, 0.0]), np.zeros(3), SocialContext())
+            assert res.status == PlannerStatus.INVALID_INPUT and np.all(res.cmd == 0)
+            assert res.message == "internal error, RuntimeError: perception failed"
+    assert len(calls) == 3
+    records = [r for r in caplog.records if r.name == "socialnav.planner.navigator"]
+    assert len(records) == 1 and records[0].exc_info is not None
+    assert "perception failed" in records[0].getMessage()
+
+
+def test_an_input_error_raised_inside_the_step_is_not_called_internal(caplog):
+    cm, _ = world(8.0, 4.0, CORRIDOR, PR2)
+
+    def refuses(social, goal, pose):
+        raise InvalidInputError("person 4: a group member far from the others")
+
+    nav = Navigator(
+        PR2, traditional_planner(PR2), cm, np.array([6.5, 2.0, 0.0]), social_goal_fn=refuses
+    )
+    with caplog.at_level(logging.ERROR, logger="socialnav.planner.navigator"):
+        res = nav.step(0.0, np.array([1.0, 2.0, 0.0]), np.zeros(3), SocialContext())
+    assert res.status == PlannerStatus.INVALID_INPUT
+    assert res.message == "InvalidInputError: person 4: a group member far from the others"
+    assert not [r for r in caplog.records if r.name == "socialnav.planner.navigator"]

@@ -78,13 +78,19 @@ Decisions:
   any status (a decelerating zero command included) closes the footprint on a person it
   touches when a reachable one does not.
 - ``step`` never raises: invalid input gives ``INVALID_INPUT`` naming the field, any internal
-  failure too (with the exception text in ``message``). No input changes the navigator's state
-  unless it is valid.
+  failure too, its ``message`` then beginning "internal error" with the exception's text, and
+  the first failure of each kind (exception type and text) in an episode (until ``reset``)
+  logged with its traceback on the ``socialnav.planner.navigator`` logger (Python's ``logging``;
+  with no handler configured, stderr): such a failure is a defect of this library or of a
+  callable given to it (a layer, a social-goal function), not of the input, and the status alone
+  hid one (giving way beside a walking group, ``INVALID_INPUT`` every cycle). No input changes
+  the navigator's state unless it is valid.
 """
 
 from __future__ import annotations
 
 import inspect
+import logging
 from collections.abc import Callable, Mapping
 from concurrent.futures import Future, ThreadPoolExecutor
 from dataclasses import dataclass, replace
@@ -94,7 +100,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy.ndimage import distance_transform_edt
 
-from socialnav.core.errors import checked_bool, is_non_negative_number
+from socialnav.core.errors import SocialNavError, checked_bool, is_non_negative_number
 from socialnav.core.geometry import FloatArray, wrap_angle
 from socialnav.core.robot import RobotModel
 from socialnav.core.scene import SocialContext
@@ -115,6 +121,8 @@ from socialnav.social.goals import SocialGoal, interaction_distances
 from socialnav.social.plausibility import plausible_context
 from socialnav.world.costmap import add_obstacle_discs, crop
 from socialnav.world.grid import INSCRIBED, LETHAL, Costmap
+
+_LOG = logging.getLogger(__name__)
 
 #: (people and structures, given goal (3,), robot pose (3,)) -> the social goal or None
 SocialGoalFn = Callable[[SocialContext, FloatArray, FloatArray], SocialGoal | None]
@@ -330,6 +338,7 @@ class Navigator:
         self._pending: _PendingPlan | None = None
         self._step_index = 0
         self._seen: frozenset[int] | None = None  # ids in view last cycle (contact guard)
+        self._failures: set[str] = set()  # internal errors logged already (one each)
 
     # ---- public ---------------------------------------------------------------------------
     def step(
@@ -357,9 +366,23 @@ class Navigator:
             self._waiting = result.status == PlannerStatus.WAITING
             return self._guarded(self._limited(result, velocity), pose_a, vel_a, social)
         except Exception as exc:  # the control loop must survive anything
-            return PlannerResult(
-                np.zeros(3), PlannerStatus.INVALID_INPUT, None, f"{type(exc).__name__}: {exc}"
-            )
+            return self._failed(exc)
+
+    def _failed(self, exc: Exception) -> PlannerResult:
+        """``INVALID_INPUT`` and a zero command for an exception raised inside :meth:`step`:
+        the library's own input errors keep their text; anything else is an internal error,
+        said so and logged once per kind (module docstring)."""
+        text = f"{type(exc).__name__}: {exc}"
+        if not isinstance(exc, SocialNavError):
+            if text not in self._failures:
+                self._failures.add(text)
+                _LOG.error(
+                    "internal error in Navigator.step, reported as INVALID_INPUT: %s",
+                    text,
+                    exc_info=exc,
+                )
+            text = f"internal error, {text}"
+        return PlannerResult(np.zeros(3), PlannerStatus.INVALID_INPUT, None, text)
 
     @property
     def global_path(self) -> FloatArray | None:
