@@ -140,7 +140,7 @@ def test_an_internal_failure_is_said_so_and_logged_once_per_kind(caplog):
 
     def broken(social, goal, pose):
         calls.append(1)
-        raise RuntimeError("perception failed")
+        raise RuntimeError(f"perception failed at {len(calls)}")  # one line, varying texts
 
     nav = Navigator(
         PR2, traditional_planner(PR2), cm, np.array([6.5, 2.0, 0.0]), social_goal_fn=broken
@@ -149,11 +149,15 @@ def test_an_internal_failure_is_said_so_and_logged_once_per_kind(caplog):
         for k in range(3):
             res = nav.step(0.1 * k, np.array([1.0, 2.0, 0.0]), np.zeros(3), SocialContext())
             assert res.status == PlannerStatus.INVALID_INPUT and np.all(res.cmd == 0)
-            assert res.message == "internal error, RuntimeError: perception failed"
+            assert res.message == f"internal error, RuntimeError: perception failed at {k + 1}"
     assert len(calls) == 3
     records = [r for r in caplog.records if r.name == "socialnav.planner.navigator"]
     assert len(records) == 1 and records[0].exc_info is not None
-    assert "perception failed" in records[0].getMessage()
+    assert "perception failed at 1" in records[0].getMessage()
+    nav.reset()  # a new episode logs again
+    with caplog.at_level(logging.ERROR, logger="socialnav.planner.navigator"):
+        nav.step(0.0, np.array([1.0, 2.0, 0.0]), np.zeros(3), SocialContext())
+    assert len([r for r in caplog.records if r.name == "socialnav.planner.navigator"]) == 2
 
 
 def test_an_input_error_raised_inside_the_step_is_not_called_internal(caplog):

@@ -79,7 +79,7 @@ Decisions:
   touches when a reachable one does not.
 - ``step`` never raises: invalid input gives ``INVALID_INPUT`` naming the field, any internal
   failure too, its ``message`` then beginning "internal error" with the exception's text, and
-  the first failure of each kind (exception type and text) in an episode (until ``reset``)
+  the first failure of each kind (exception type and raising line) in an episode (until ``reset``)
   logged with its traceback on the ``socialnav.planner.navigator`` logger (Python's ``logging``;
   with no handler configured, stderr): such a failure is a defect of this library or of a
   callable given to it (a layer, a social-goal function), not of the input, and the status alone
@@ -338,7 +338,7 @@ class Navigator:
         self._pending: _PendingPlan | None = None
         self._step_index = 0
         self._seen: frozenset[int] | None = None  # ids in view last cycle (contact guard)
-        self._failures: set[str] = set()  # internal errors logged already (one each)
+        self._failures: set[str] = set()  # kinds of internal error logged already
 
     # ---- public ---------------------------------------------------------------------------
     def step(
@@ -374,8 +374,15 @@ class Navigator:
         said so and logged once per kind (module docstring)."""
         text = f"{type(exc).__name__}: {exc}"
         if not isinstance(exc, SocialNavError):
-            if text not in self._failures:
-                self._failures.add(text)
+            # a kind is the exception type and the line that raised it (a finite set, however
+            # the texts vary)
+            tb = exc.__traceback__
+            while tb is not None and tb.tb_next is not None:
+                tb = tb.tb_next
+            where = "" if tb is None else f"{tb.tb_frame.f_code.co_filename}:{tb.tb_lineno}"
+            kind = f"{type(exc).__name__} at {where}"
+            if kind not in self._failures:
+                self._failures.add(kind)
                 _LOG.error(
                     "internal error in Navigator.step, reported as INVALID_INPUT: %s",
                     text,
