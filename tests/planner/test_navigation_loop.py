@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from _planner_helpers import collides, step_pose, world
 
-from socialnav.core.errors import InvalidInputError
+from socialnav.core.errors import ConfigurationError, InvalidInputError
 from socialnav.core.robot import PIONEER, PR2, RobotModel
 from socialnav.core.scene import SocialContext
 from socialnav.planner.local_planner import PlannerStatus, traditional_planner
@@ -174,3 +174,57 @@ def test_an_input_error_raised_inside_the_step_is_not_called_internal(caplog):
     assert res.status == PlannerStatus.INVALID_INPUT
     assert res.message == "InvalidInputError: person 4: a group member far from the others"
     assert not [r for r in caplog.records if r.name == "socialnav.planner.navigator"]
+
+
+@pytest.mark.parametrize(
+    ("time", "pose", "velocity", "field"),
+    [
+        ("abc", (1.0, 2.0, 0.0), (0.0, 0.0, 0.0), "time"),
+        (0.0, "1,0,0", (0.0, 0.0, 0.0), "pose"),
+        (0.0, (1.0, 2.0, 0.0), "fast", "velocity"),
+        (None, (1.0, 2.0, 0.0), (0.0, 0.0, 0.0), "time"),
+    ],
+)
+def test_input_of_the_wrong_type_is_named_not_an_internal_error(
+    time, pose, velocity, field, caplog
+):
+    cm, _ = world(8.0, 4.0, CORRIDOR, PR2)
+    nav = Navigator(PR2, traditional_planner(PR2), cm, np.array([6.5, 2.0, 0.0]))
+    with caplog.at_level(logging.ERROR, logger="socialnav.planner.navigator"):
+        res = nav.step(time, pose, velocity, SocialContext())
+    assert res.status == PlannerStatus.INVALID_INPUT and np.all(res.cmd == 0)
+    assert res.message.startswith(f"{field} must be"), res.message
+    assert not caplog.records
+
+
+def test_a_layer_failing_a_deferred_replan_is_logged_and_the_plan_kept(caplog):
+    # Deferred replanning (the ROS node's default) keeps the current plan when a replan
+    # fails; that failure, too, is a defect to hear about.
+    cm, _ = world(8.0, 4.0, CORRIDOR, PR2)
+    plans = []
+
+    def layer(costmap, social, partners=None):
+        plans.append(1)
+        if len(plans) > 1:
+            raise ConfigurationError("sigma must be > 0")
+        return costmap
+
+    nav = Navigator(
+        PR2,
+        traditional_planner(PR2),
+        cm,
+        np.array([6.5, 2.0, 0.0]),
+        global_layer=layer,
+        replan_mode="deferred",
+        replan_period=0.5,
+    )
+    pose, vel = np.array([1.0, 2.0, 0.0]), np.zeros(3)
+    with caplog.at_level(logging.ERROR, logger="socialnav.planner.navigator"):
+        for k in range(30):
+            res = nav.step(0.1 * k, pose, vel, SocialContext())
+            assert res.status == PlannerStatus.OK, res.message
+            vel = res.cmd
+            pose = step_pose(pose, vel)
+    assert len(plans) > 2 and "replan failed: ConfigurationError" in nav.last_plan_status
+    records = [r for r in caplog.records if r.name == "socialnav.planner.navigator"]
+    assert len(records) == 1 and "deferred replan" in records[0].getMessage()

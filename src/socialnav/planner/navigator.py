@@ -77,20 +77,22 @@ Decisions:
   :func:`~socialnav.planner.contact_guard.guard_contact` after the limits, so no command of
   any status (a decelerating zero command included) closes the footprint on a person it
   touches when a reachable one does not.
-- ``step`` never raises: invalid input gives ``INVALID_INPUT`` naming the field, any internal
-  failure too, its ``message`` then beginning "internal error" with the exception's text, and
-  the first failure of each kind (exception type and raising line) in an episode (until ``reset``)
-  logged with its traceback on the ``socialnav.planner.navigator`` logger (Python's ``logging``;
-  with no handler configured, stderr): such a failure is a defect of this library or of a
-  callable given to it (a layer, a social-goal function), not of the input, and the status alone
-  hid one (giving way beside a walking group, ``INVALID_INPUT`` every cycle). No input changes
-  the navigator's state unless it is valid.
+- ``step`` never raises: invalid input (of any type) gives ``INVALID_INPUT`` naming the field,
+  any internal failure too, its ``message`` then beginning "internal error" with the exception's
+  text (unless it is an ``InvalidInputError``), and the first failure of each kind (exception
+  type and raising line) in an episode (until ``reset``) logged with its traceback on the
+  ``socialnav.planner.navigator`` logger (Python's ``logging``; with no handler configured,
+  stderr): such a failure is a defect of this library or of a callable given to it (a layer, a
+  social-goal function), not of the input, and the status alone hid one (giving way beside a
+  walking group, ``INVALID_INPUT`` every cycle). A deferred replan that fails is logged the same
+  way (the plan is kept). No input changes the navigator's state unless it is valid.
 """
 
 from __future__ import annotations
 
 import inspect
 import logging
+import math
 from collections.abc import Callable, Mapping
 from concurrent.futures import Future, ThreadPoolExecutor
 from dataclasses import dataclass, replace
@@ -100,7 +102,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy.ndimage import distance_transform_edt
 
-from socialnav.core.errors import SocialNavError, checked_bool, is_non_negative_number
+from socialnav.core.errors import InvalidInputError, checked_bool, is_non_negative_number
 from socialnav.core.geometry import FloatArray, wrap_angle
 from socialnav.core.robot import RobotModel
 from socialnav.core.scene import SocialContext
@@ -123,6 +125,16 @@ from socialnav.world.costmap import add_obstacle_discs, crop
 from socialnav.world.grid import INSCRIBED, LETHAL, Costmap
 
 _LOG = logging.getLogger(__name__)
+
+
+def _read3(value: Any) -> FloatArray | None:
+    """``value`` as a finite float ``(3,)`` array, or None when it is not one (whatever it is)."""
+    try:
+        out = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        return None
+    return out if out.shape == (3,) and bool(np.all(np.isfinite(out))) else None
+
 
 #: (people and structures, given goal (3,), robot pose (3,)) -> the social goal or None
 SocialGoalFn = Callable[[SocialContext, FloatArray, FloatArray], SocialGoal | None]
@@ -354,15 +366,14 @@ class Navigator:
         the field, a stopping command, and leaves the navigator's state untouched.
         """
         try:
-            t = float(time)
-            problem = self._invalid(t, pose, velocity, social)
+            problem = self._invalid(time, pose, velocity, social)
             if problem:
                 stop = PlannerResult(np.zeros(3), PlannerStatus.INVALID_INPUT, None, problem)
                 limited = self._limited(stop, velocity)
                 return self._guarded(limited, pose, velocity, social, track=False)
             self._step_index += 1
             pose_a, vel_a = np.asarray(pose, float), np.asarray(velocity, float)
-            result = self._step(t, pose_a, vel_a, social)
+            result = self._step(float(time), pose_a, vel_a, social)
             self._waiting = result.status == PlannerStatus.WAITING
             return self._guarded(self._limited(result, velocity), pose_a, vel_a, social)
         except Exception as exc:  # the control loop must survive anything
@@ -370,26 +381,26 @@ class Navigator:
 
     def _failed(self, exc: Exception) -> PlannerResult:
         """``INVALID_INPUT`` and a zero command for an exception raised inside :meth:`step`:
-        the library's own input errors keep their text; anything else is an internal error,
-        said so and logged once per kind (module docstring)."""
+        an ``InvalidInputError`` (the input's) keeps its text; anything else, a
+        ``ConfigurationError`` of a layer included, is an internal error, said so and logged
+        once per kind (module docstring)."""
         text = f"{type(exc).__name__}: {exc}"
-        if not isinstance(exc, SocialNavError):
-            # a kind is the exception type and the line that raised it (a finite set, however
-            # the texts vary)
-            tb = exc.__traceback__
-            while tb is not None and tb.tb_next is not None:
-                tb = tb.tb_next
-            where = "" if tb is None else f"{tb.tb_frame.f_code.co_filename}:{tb.tb_lineno}"
-            kind = f"{type(exc).__name__} at {where}"
-            if kind not in self._failures:
-                self._failures.add(kind)
-                _LOG.error(
-                    "internal error in Navigator.step, reported as INVALID_INPUT: %s",
-                    text,
-                    exc_info=exc,
-                )
+        if not isinstance(exc, InvalidInputError):
+            self._log_once(exc, "Navigator.step, reported as INVALID_INPUT")
             text = f"internal error, {text}"
         return PlannerResult(np.zeros(3), PlannerStatus.INVALID_INPUT, None, text)
+
+    def _log_once(self, exc: Exception, where: str) -> None:
+        """Log ``exc`` with its traceback unless its kind (type and raising line) was logged
+        in this episode."""
+        tb = exc.__traceback__
+        while tb is not None and tb.tb_next is not None:
+            tb = tb.tb_next
+        line = "" if tb is None else f"{tb.tb_frame.f_code.co_filename}:{tb.tb_lineno}"
+        kind = f"{type(exc).__name__} at {line}"
+        if kind not in self._failures:
+            self._failures.add(kind)
+            _LOG.error("internal error in %s: %s: %s", where, type(exc).__name__, exc, exc_info=exc)
 
     @property
     def global_path(self) -> FloatArray | None:
@@ -398,14 +409,17 @@ class Navigator:
         return self._path
 
     # ---- internals ------------------------------------------------------------------------
-    def _invalid(self, time: float, pose_in: Any, vel_in: Any, social: Any) -> str:
-        if not np.isfinite(time):
-            return f"time must be finite, got {time!r}"
-        pose = np.asarray(pose_in, dtype=float)
-        velocity = np.asarray(vel_in, dtype=float)
-        if pose.shape != (3,) or not np.all(np.isfinite(pose)):
+    def _invalid(self, time: Any, pose_in: Any, vel_in: Any, social: Any) -> str:
+        try:
+            t = float(time)
+        except (TypeError, ValueError):
+            t = math.nan
+        if not np.isfinite(t):
+            return f"time must be a finite number (s), got {time!r}"
+        pose, velocity = _read3(pose_in), _read3(vel_in)
+        if pose is None:
             return f"pose must be a finite (3,) array (x, y, yaw), got {pose_in!r}"
-        if velocity.shape != (3,) or not np.all(np.isfinite(velocity)):
+        if velocity is None:
             return f"velocity must be a finite (3,) body twist, got {vel_in!r}"
         x0, y0, x1, y1 = self._bounds
         if not (x0 <= pose[0] <= x1 and y0 <= pose[1] <= y1):
@@ -418,8 +432,8 @@ class Navigator:
         return ""
 
     def _limited(self, result: PlannerResult, velocity: Any) -> PlannerResult:
-        v = np.asarray(velocity, dtype=float)
-        v = v if v.shape == (3,) else np.zeros(3)
+        v = _read3(velocity)
+        v = np.zeros(3) if v is None else v
         cmd = enforce_limits(result.cmd, v, self.robot, self.controller_period)
         if np.array_equal(cmd, result.cmd):
             return result
@@ -430,9 +444,10 @@ class Navigator:
     ) -> PlannerResult:
         """``result`` with its command through the contact guard (module docstring); as it is
         when there is no guard or the pose, velocity or people cannot be read."""
-        q, v = np.asarray(pose, dtype=float), np.asarray(velocity, dtype=float)
-        readable = q.shape == v.shape == (3,) and np.all(np.isfinite(q)) and np.all(np.isfinite(v))
-        if self.contact_guard is None or not readable or not isinstance(social, SocialContext):
+        q, v = _read3(pose), _read3(velocity)
+        if self.contact_guard is None or q is None or v is None:
+            return result
+        if not isinstance(social, SocialContext):
             return result
         ids = frozenset(int(p.id) for p in social.people)
         # nobody has "appeared" beside the robot on the first cycle; an invalid cycle
@@ -817,6 +832,8 @@ class Navigator:
             plan = pending.future.result()
         except Exception as exc:  # a failed replan keeps the current plan
             self.last_plan_status = f"replan failed: {type(exc).__name__}: {exc}"
+            if not isinstance(exc, InvalidInputError):
+                self._log_once(exc, "a deferred replan, the current plan kept")
             return
         # The period counts from when the plan took effect, as for an inline replan.
         self._apply_plan(now, pending.pose, pending.target, plan, pending.changed, pending.off_plan)
