@@ -232,6 +232,16 @@ def test_an_unknown_format_is_refused(tmp_path: Path) -> None:
         save_episode(rich_record(), tmp_path, fmt="xml")
 
 
+def _saved_with(tmp_path: Path, edit) -> Path:
+    """An episode folder whose ``episode.json`` went through ``edit(static)`` after saving."""
+    folder = save_episode(rich_record(), tmp_path / "episode")
+    path = folder / EPISODE_FILE
+    static = json.loads(path.read_text())
+    edit(static)
+    path.write_text(json.dumps(static))
+    return folder
+
+
 def test_bug_a_malformed_episode_json_did_not_name_the_file(tmp_path: Path) -> None:
     folder = save_episode(rich_record(), tmp_path / "episode")
     path = folder / EPISODE_FILE
@@ -244,22 +254,20 @@ def test_bug_a_malformed_episode_json_did_not_name_the_file(tmp_path: Path) -> N
 
 
 def test_an_episode_json_without_a_field_names_the_file_and_the_field(tmp_path: Path) -> None:
-    folder = save_episode(rich_record(), tmp_path / "episode")
-    path = folder / EPISODE_FILE
-    static = json.loads(path.read_text())
-    del static["people_ids"], static["time_limit"]
-    path.write_text(json.dumps(static))
+    def edit(static: dict) -> None:
+        del static["people_ids"], static["time_limit"]
+
+    folder = _saved_with(tmp_path, edit)
     with pytest.raises(InvalidInputError, match=r"episode\.json: .*'people_ids', 'time_limit'"):
         load_episode(folder)
 
 
 def test_a_trajectory_row_of_someone_not_in_the_episode_names_the_table(tmp_path: Path) -> None:
-    folder = save_episode(rich_record(), tmp_path / "episode")
-    path = folder / EPISODE_FILE
-    static = json.loads(path.read_text())
-    static["people_ids"] = static["people_ids"][:-1]
-    static["people_radii"] = static["people_radii"][:-1]
-    path.write_text(json.dumps(static))
+    def edit(static: dict) -> None:
+        static["people_ids"] = static["people_ids"][:-1]
+        static["people_radii"] = static["people_radii"][:-1]
+
+    folder = _saved_with(tmp_path, edit)
     with pytest.raises(InvalidInputError, match=rf"{TRAJECTORY_FILE}: .*person 20"):
         load_episode(folder)
 
@@ -287,11 +295,7 @@ def test_a_field_of_the_wrong_type_or_shape_names_the_file_and_the_field(
     tmp_path: Path, field: str, value: object, message: str
 ) -> None:
     # each of these loaded (or raised a bare TypeError) and broke a metric later
-    folder = save_episode(rich_record(), tmp_path / "episode")
-    path = folder / EPISODE_FILE
-    static = json.loads(path.read_text())
-    static[field] = value
-    path.write_text(json.dumps(static))
+    folder = _saved_with(tmp_path, lambda static: static.update({field: value}))
     with pytest.raises(InvalidInputError, match=rf"episode\.json: field {message}"):
         load_episode(folder)
 

@@ -445,9 +445,8 @@ class Navigator:
         """``result`` with its command through the contact guard (module docstring); as it is
         when there is no guard or the pose, velocity or people cannot be read."""
         q, v = _read3(pose), _read3(velocity)
-        if self.contact_guard is None or q is None or v is None:
-            return result
-        if not isinstance(social, SocialContext):
+        guard = self.contact_guard
+        if guard is None or q is None or v is None or not isinstance(social, SocialContext):
             return result
         ids = frozenset(int(p.id) for p in social.people)
         # nobody has "appeared" beside the robot on the first cycle; an invalid cycle
@@ -463,7 +462,7 @@ class Navigator:
             self.robot,
             local,
             self.controller_period,
-            self.contact_guard,
+            guard,
             self.costmap,
             appeared,
         )
