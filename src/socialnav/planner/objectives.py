@@ -188,6 +188,11 @@ def prepare(
 #: "soft_relaxed")`` counts them). Overlap with a person who walks into the robot whatever it
 #: does is unavoidable; moving toward them (``person_approach``) is not, and stays hard.
 SOFT_REASONS = frozenset({"person_collision"})
+#: Illegal reasons relaxed first: if no trajectory left after the hard and soft reasons is
+#: legal under them, the cycle keeps those trajectories (``("objectives",
+#: "preferred_relaxed")`` counts them). Keeping a stranger's personal space is a preference
+#: the robot gives up before it gives up avoiding contact.
+PREFERRED_REASONS = frozenset({"personal_space"})
 
 
 def evaluate(
@@ -205,6 +210,7 @@ def evaluate(
     rejected: dict[tuple[str, str], int] = {}
     legal = np.ones(n, dtype=bool)
     soft = np.ones(n, dtype=bool)
+    preferred = np.ones(n, dtype=bool)
     for critic, key in keys.items():
         start = time.perf_counter()
         result = critic.score(trajs, ctx)
@@ -212,7 +218,9 @@ def evaluate(
         raw[key] = np.asarray(result.cost, dtype=float)
         for reason, mask in result.illegal.items():
             rejected[(key, reason)] = int(np.count_nonzero(mask))
-            if reason in SOFT_REASONS:
+            if reason in PREFERRED_REASONS:
+                preferred &= ~np.asarray(mask, dtype=bool)
+            elif reason in SOFT_REASONS:
                 soft &= ~np.asarray(mask, dtype=bool)
             else:
                 legal &= ~np.asarray(mask, dtype=bool)
@@ -220,6 +228,10 @@ def evaluate(
         legal &= soft
     elif legal.any():
         rejected[("objectives", "soft_relaxed")] = int(np.count_nonzero(legal))
+    if (legal & preferred).any():
+        legal &= preferred
+    elif legal.any():
+        rejected[("objectives", "preferred_relaxed")] = int(np.count_nonzero(legal))
     # Critics promise finite costs on legal rows; a non-finite one is treated as illegal.
     F = np.zeros((n, len(objectives)))
     for j, obj in enumerate(objectives):

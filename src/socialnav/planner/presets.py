@@ -195,6 +195,7 @@ def recommended_objectives(
     approach_footprint: Literal["disc", "polygon"] = "disc",
     social_indifference: float = 0.0,
     passage_distance: bool = False,
+    personal_space: float = 0.0,
 ) -> list[tuple[Objective, float]]:
     """Navigation (to the social goal), one ID over all people forecast along the rollout, GD,
     SGD near the social goal, activity space; ``partner_distance``: the people the social goal
@@ -202,7 +203,9 @@ def recommended_objectives(
     passing distance of walkers past the end point (both: ``InterpersonalCritic``);
     ``social_indifference``: every social objective's ``Objective.indifference``;
     ``passage_distance``: people standing beside a narrow passage keep the passage's own
-    distance in ID (``InterpersonalCritic``)."""
+    distance in ID; ``personal_space`` (m, 0 = off): ID also prefers, for a holonomic robot
+    among few people, the trajectories that keep out of everyone's personal space
+    (``InterpersonalCritic.personal_space``, ``PREFERRED_PERSONAL_SPACE``)."""
     q = social_indifference
     out = [(traditional_objectives(params)[0], PAPER_WEIGHTS["navigation"])]
     if social.people:
@@ -212,6 +215,8 @@ def recommended_objectives(
             hold_horizon=hold_horizon,
             approach_footprint=approach_footprint,
             passage_distance=passage_distance,
+            personal_space=personal_space,
+            personal_space_kinematics="holonomic",
         )
         out.append((Objective("ID", ((interpersonal, 1.0),), q), PAPER_WEIGHTS["ID"]))
     if social.groups:
@@ -259,7 +264,31 @@ def partner_objectives(
         approach_footprint="polygon",
         social_indifference=SOCIAL_INDIFFERENCE,
         passage_distance=True,
+        personal_space=PREFERRED_PERSONAL_SPACE,
     )
+
+
+#: ``paccet``'s personal space as a preference in ID (m; ``InterpersonalCritic.personal_space``,
+#: ``objectives.PREFERRED_REASONS``): a holonomic robot among at most 3 people within 10 m, one
+#: of whom walks (0.3 m/s or faster), keeps to the trajectories that stay out of everyone's
+#: 1.2 m personal space (people already inside it are not judged) while there is one. With ID
+#: alone the PR2 drove on beside a walker at 1.14 m for ten seconds (generated hallway dev seed
+#: 97), or past someone standing at 0.90 m on the wall side while the other side had room once
+#: a walker overtaking there had gone by (seed 107). Generated hallway dev seeds 0–199, passes
+#: of 200 (Pioneer / PR2): 191 / 190 without; the rule for both robots, standing people alone
+#: included, 188 / 193 (PR2 gained 86, 97, 107, 152, lost 38; the Pioneer lost 2, 19, 40, 129
+#: and gained 131: with every move ahead inside someone's space, turning round and driving
+#: away remained, and twice it was then left facing away against a wall); the same with the
+#: Pioneer's moves that end farther from the goal also marked, Pioneer 181; walkers' personal
+#: space only, 188 / 191. Kept for the holonomic robot only (the Pioneer is unchanged). With
+#: standing people alone the PR2 stood 1.21 m from a gallery viewer it had to pass until the
+#: time limit (gallery_pass dev 0–59: 60 → 57), hence only while someone walks: PR2 dev 0–59
+#: gallery_present, gallery_pass, queue, group_join, group_lead and mixed unchanged (58, 60,
+#: 60, 60, 60, 60 passes), crowdnav and crowdnav_visible too (58, 60; more than 3 people),
+#: hallway 0–199 193. Recorded crowds dev 0–89, PR2: successes 180 → 180, active-contact
+#: episodes 0 → 0, passive 50 → 51, time within 1.2 m 6.18 → 6.18 s, path ratio 1.317 →
+#: 1.321. Paper suite 34/34, Table 1 unchanged.
+PREFERRED_PERSONAL_SPACE = 1.2
 
 
 #: ``paccet``'s indifference threshold on every social objective (raw units; ID and GD are

@@ -52,6 +52,21 @@ Deviations and choices:
   oncoming walker only because the closest approach falls outside the rollout horizon, and the
   robot stops until the walker has passed (the "yielding" time). Standing in a walker's way
   costs what the encounter will cost (the end point is where a robot can always stop).
+- Personal space as a preference (``personal_space`` m, 0 = off, the paper has no such rule;
+  ``max_over_time`` only): a trajectory whose distance to someone now at least
+  ``personal_space`` away (the distance this critic measures, over the rollout and the
+  passing continuation, scaled for partners and passages as above) comes inside it is illegal,
+  reason ``personal_space``, a *preferred* reason (``objectives.PREFERRED_REASONS``: given up
+  first, when no trajectory keeps it). ID alone only trades the distance against progress, so
+  the robot drove on beside a walker at 1.15–1.2 m, or squeezed past someone standing while
+  the other side had room, where slowing down for a moment kept the personal space
+  (generated hallway). Only where few people are near (at most ``personal_space_people``
+  within ``personal_space_range`` m: in a crowd nearly every move enters someone's space and
+  constant-velocity forecasts do not hold), only while one of them walks (at least
+  ``personal_space_walker_speed`` m/s; 0 = always: waiting for a walker to go by ends, but
+  someone standing stays, and the robot stood 1.21 m from a viewer it had to pass until the
+  time limit, generated gallery_pass), and with ``personal_space_kinematics="holonomic"`` only
+  for a robot that can step sideways.
 - Collisions: a trajectory whose footprint disc (``footprint_disc`` radius: the inscribed circle
   by default — the occupancy critic handles corners against walls; choose ``circumscribed`` to be
   conservative) overlaps a person's disc at any rollout time (people forecast by
@@ -473,8 +488,11 @@ class InterpersonalCritic(Critic):
     cap), ``footprint_disc`` (``inscribed`` | ``circumscribed``), ``collision_check`` (bool),
     ``partner_distance`` (bool) and ``partner_margin`` (m, 0.05), ``approach_check`` (bool),
     ``approach_speed`` (m/s, 0.02) and ``approach_footprint`` (``disc`` | ``polygon``),
-    ``hold_horizon`` (s, 0 = off), ``passage_distance`` (bool); each is described in the module
-    docstring. Use:
+    ``hold_horizon`` (s, 0 = off), ``passage_distance`` (bool), ``personal_space`` (m, 0 = off)
+    with ``personal_space_people`` (int >= 1), ``personal_space_range`` (m),
+    ``personal_space_walker_speed`` (m/s) and ``personal_space_kinematics`` (``any`` |
+    ``holonomic``); each is described in the module
+    docstring. Raises ``ConfigurationError`` for a value out of range. Use:
     ``InterpersonalCritic(...).score(trajs, ctx)`` with a
     :class:`~socialnav.planner.context.PlanningContext` (no ``prepare`` needed).
     """
@@ -496,8 +514,33 @@ class InterpersonalCritic(Critic):
     approach_footprint: Literal["disc", "polygon"] = "disc"
     hold_horizon: float = 0.0
     passage_distance: bool = False
+    personal_space: float = 0.0
+    personal_space_people: int = 3
+    personal_space_range: float = 10.0
+    personal_space_walker_speed: float = 0.3
+    personal_space_kinematics: Literal["any", "holonomic"] = "any"
 
     def __post_init__(self) -> None:
+        if not (np.isfinite(self.personal_space) and self.personal_space >= 0):
+            raise ConfigurationError("interpersonal: personal_space must be finite and >= 0")
+        if not (np.isfinite(self.personal_space_range) and self.personal_space_range > 0):
+            raise ConfigurationError("interpersonal: personal_space_range must be finite and > 0")
+        speed = self.personal_space_walker_speed
+        if not (np.isfinite(speed) and speed >= 0):
+            raise ConfigurationError(
+                "interpersonal: personal_space_walker_speed must be finite and >= 0"
+            )
+        if (
+            not isinstance(self.personal_space_people, int)
+            or isinstance(self.personal_space_people, bool)
+            or self.personal_space_people < 1
+        ):
+            raise ConfigurationError("interpersonal: personal_space_people must be an int >= 1")
+        if self.personal_space_kinematics not in ("any", "holonomic"):
+            raise ConfigurationError(
+                "interpersonal: personal_space_kinematics must be any|holonomic, "
+                f"got {self.personal_space_kinematics!r}"
+            )
         if not self.threshold > 0 or not self.min_distance > 0:
             raise ConfigurationError("interpersonal: threshold and min_distance must be > 0")
         if not (np.isfinite(self.hold_horizon) and self.hold_horizon >= 0):
@@ -533,6 +576,35 @@ class InterpersonalCritic(Critic):
             ctx, self.threshold, self.partner_margin, self.passage_distance, self.partner_distance
         )
         return np.asarray(self.threshold / own)
+
+    def _personal_space(
+        self, ctx: PlanningContext, d: FloatArray, cols: NDArray[np.intp] | None
+    ) -> np.ndarray | None:
+        """``(N,)`` the rows of ``d`` (``(N, J)`` distances as measured and scaled, of the
+        people ``cols``, all when None) that come inside ``personal_space`` of someone now
+        outside it, or None when the rule does not apply (module docstring)."""
+        if self.personal_space <= 0 or self.evaluation != "max_over_time":
+            return None
+        if self.personal_space_kinematics == "holonomic" and not ctx.robot.holonomic:
+            return None
+        now = np.hypot(*(ctx.social.positions() - ctx.pose[:2]).T)  # (K,) centre to centre
+        near = now <= self.personal_space_range
+        if int(near.sum()) > self.personal_space_people:
+            return None
+        if self.personal_space_walker_speed > 0:
+            v = ctx.social.velocities()
+            if not (near & (np.hypot(v[:, 0], v[:, 1]) >= self.personal_space_walker_speed)).any():
+                return None
+        if self.distance == "edge":
+            robot_r = footprint_radius(ctx, self.footprint_disc)
+            now = np.maximum(now - ctx.social.radii() - robot_r, 0.0)
+        scale = self._distance_scale(ctx)
+        if scale is not None:
+            now = now * scale
+        outside = now >= self.personal_space
+        if cols is not None:
+            outside = outside[cols]
+        return np.asarray((d[:, outside] < self.personal_space).any(axis=1))
 
     def score(self, trajs: Trajectories, ctx: PlanningContext) -> CriticScore:
         """Raw cost ``(N,)`` and illegal masks of the batch (see the class docstring)."""
@@ -591,6 +663,9 @@ class InterpersonalCritic(Critic):
             cost = np.zeros(n)
 
         illegal: dict[str, np.ndarray] = {}
+        inside = self._personal_space(ctx, d, None)
+        if inside is not None:
+            illegal["personal_space"] = inside
         if self.collision_check:
             # any over time of d² < r² is (min over time of d²) < r²
             assert d2min is not None
@@ -651,6 +726,9 @@ class InterpersonalCritic(Critic):
         f = capped_inverse_exp(d, self.threshold, self.min_distance)  # (N, J)
         cost = f.max(axis=1, initial=0.0)
         illegal: dict[str, np.ndarray] = {}
+        inside = self._personal_space(ctx, d, cols)
+        if inside is not None:
+            illegal["personal_space"] = inside
         if self.collision_check:
             xy = trajs.xy
             for j in np.flatnonzero(touching):  # escape from overlap, as in the reference
