@@ -100,9 +100,6 @@ def test_off_among_more_than_the_few_people_and_for_a_differential_drive_when_as
     walking = (*STANDING, Person(2, (-3.0, 0.0), (0.5, 0.0)))
     marked = default.score(_lines(MOVES), _ctx(walking)).illegal["personal_space"]
     np.testing.assert_array_equal(marked, [True, False, False])
-    # the paper's end-point evaluation has no rule either
-    last = InterpersonalCritic(evaluation="last", personal_space=1.2)
-    assert "personal_space" not in last.score(_lines(MOVES), _ctx(STANDING)).illegal
 
 
 def test_the_preference_is_given_up_first_and_contact_stays_avoided():
@@ -127,11 +124,17 @@ def test_the_preference_is_given_up_first_and_contact_stays_avoided():
     [
         {"personal_space": -0.1},
         {"personal_space": float("nan")},
+        {"personal_space": "1.2"},
+        {"personal_space_walker_speed": True},
         {"personal_space_people": 0},
         {"personal_space_people": 2.5},
         {"personal_space_range": 0.0},
         {"personal_space_walker_speed": -1.0},
         {"personal_space_kinematics": "diff"},
+        # the rule judges the rollout over time and within ID's own reach
+        {"personal_space": 1.2, "evaluation": "last"},
+        {"personal_space": 2.0, "evaluation": "max_over_time"},
+        {"personal_space": 1.2, "evaluation": "max_over_time", "threshold": 1.0},
     ],
 )
 def test_bad_parameters_are_named(bad):
@@ -164,3 +167,95 @@ def test_bug_pr2_kept_too_close_in_generated_hallway(seed, what):
     d = np.hypot(*(np.asarray(record.people_positions) - robot[:, None]).transpose(2, 0, 1))
     assert np.nanmin(d) >= 1.2, what
     assert evaluate_success(record)["success"], what
+
+
+def test_count_and_range_bounds_are_inclusive_and_the_walker_must_be_near():
+    at_range = [Person(k, (0.0, 10.0 * s)) for k, s in ((2, 1.0), (3, -1.0), (4, 1.0))]
+    three = (*STANDING, at_range[0], at_range[1])  # two exactly 10 m away: 3 within range
+    assert "personal_space" in RULE.score(_lines(MOVES), _ctx(three)).illegal
+    four = (*three, Person(4, (-10.0, 0.0)))
+    assert "personal_space" not in RULE.score(_lines(MOVES), _ctx(four)).illegal
+    gated = InterpersonalCritic(evaluation="max_over_time", personal_space=1.2)
+    exactly = (*STANDING, Person(2, (-3.0, 0.0), (0.18, 0.24)))  # 0.3 m/s
+    assert "personal_space" in gated.score(_lines(MOVES), _ctx(exactly)).illegal
+    far_walker = (*STANDING, Person(2, (-10.5, 0.0), (1.0, 0.0)))
+    assert "personal_space" not in gated.score(_lines(MOVES), _ctx(far_walker)).illegal
+
+
+def test_edge_distance_judges_the_gap_now_too():
+    # 1.75 m centre to centre is a 1.17 m gap (person 0.25 m, PR2 inscribed radius): already
+    # inside a 1.2 m gap, so not judged; a person farther off is.
+    edge = InterpersonalCritic(
+        evaluation="max_over_time",
+        distance="edge",
+        personal_space=1.2,
+        personal_space_walker_speed=0.0,
+    )
+    gap_now = 1.75 - 0.25 - PR2.inscribed_radius
+    assert gap_now < 1.2
+    assert not edge.score(_lines(MOVES), _ctx(STANDING)).illegal["personal_space"].any()
+    farther = (Person(1, (2.2, 1.2)),)  # gap 2.51 - 0.25 - r now; driving on ends 1.56 away
+    end_gap = np.hypot(1.2, 1.2) - 0.25 - PR2.inscribed_radius
+    marked = edge.score(_lines(MOVES), _ctx(farther)).illegal["personal_space"]
+    assert marked[0] == (end_gap < 1.2) and not marked[2]
+
+
+@pytest.mark.parametrize("kernels_on", [True, False])
+def test_someone_near_the_goal_is_judged_at_their_own_distance(kernels_on, monkeypatch):
+    # A stranger standing 0.8 m from the given goal keeps the goal's own distance less the
+    # 0.05 m margin, 0.75 m, in ID (partner_distance): the rule's bound for them is 0.75 m,
+    # not 1.2 m, or the robot could never arrive.
+    from socialnav.planner import kernels
+
+    if not kernels_on:
+        monkeypatch.setattr(kernels, "enabled", lambda: False)
+    rule = InterpersonalCritic(
+        evaluation="max_over_time",
+        partner_distance=True,
+        personal_space=1.2,
+        personal_space_walker_speed=0.0,
+    )
+    ctx = _ctx((Person(1, (5.0, 0.8)),))  # the goal is (5, 0)
+    # straight lines ending 1.0 m (inside 1.2 m, outside 0.75 m) and 0.57 m from them
+    trajs = _lines([(2.2, 0.0), (2.3, 0.2)])
+    ends = np.hypot(*(np.array([5.0, 0.8]) - trajs.poses[:, -1, :2]).T)
+    np.testing.assert_allclose(ends, [1.0, np.hypot(0.4, 0.4)], atol=1e-9)
+    np.testing.assert_array_equal(rule.score(trajs, ctx).illegal["personal_space"], [False, True])
+
+
+def test_relaxed_count_is_the_number_of_trajectories_kept():
+    objective = Objective("ID", ((RULE, 1.0),))
+    ev = evaluate([objective], _lines([(0.5, 0.0), (0.55, 0.05)]), _ctx(STANDING))
+    np.testing.assert_array_equal(ev.legal, [True, True])
+    assert ev.rejected[("objectives", "preferred_relaxed")] == 2
+    assert ev.rejected[("interpersonal", "personal_space")] == 2
+
+
+def test_only_paccet_carries_the_rule_and_it_can_be_switched_off():
+    import functools
+
+    from socialnav.planner.critics.base import Critic
+    from socialnav.planner.presets import (
+        PREFERRED_PERSONAL_SPACE,
+        PRESETS,
+        LocalPlannerParams,
+        partner_objectives,
+    )
+
+    social = SocialContext(STANDING)
+
+    def rules(objectives) -> set[float]:
+        out = set()
+        for objective, _ in objectives(social, False, LocalPlannerParams()):
+            for critic, _ in objective.terms:
+                assert isinstance(critic, Critic)
+                if isinstance(critic, InterpersonalCritic):
+                    out.add(critic.personal_space)
+                    if critic.personal_space:
+                        assert critic.personal_space_kinematics == "holonomic"
+        return out
+
+    assert rules(PRESETS.get("paccet").objectives) == {PREFERRED_PERSONAL_SPACE}
+    for name in ("weighted_social", "paccet_paper", "traditional", "proxemic_layer"):
+        assert rules(PRESETS.get(name).objectives) <= {0.0}, name
+    assert rules(functools.partial(partner_objectives, personal_space=0.0)) == {0.0}

@@ -190,8 +190,9 @@ def prepare(
 SOFT_REASONS = frozenset({"person_collision"})
 #: Illegal reasons relaxed first: if no trajectory left after the hard and soft reasons is
 #: legal under them, the cycle keeps those trajectories (``("objectives",
-#: "preferred_relaxed")`` counts them). Keeping a stranger's personal space is a preference
-#: the robot gives up before it gives up avoiding contact.
+#: "preferred_relaxed")`` counts them). Keeping someone's personal space is a preference the
+#: robot gives up before it gives up avoiding contact. As for soft reasons, a critic's count
+#: under ``rejected`` is how many it marked, kept or not.
 PREFERRED_REASONS = frozenset({"personal_space"})
 
 
@@ -201,7 +202,10 @@ def evaluate(
     ctx: PlanningContext,
 ) -> Evaluation:
     """Score ``trajs`` with every objective. Calls :func:`prepare` first (critics make it
-    idempotent within a cycle). May raise ``CriticUnavailable``."""
+    idempotent within a cycle). A trajectory is legal when no critic marks it for a hard
+    reason; then, tier by tier, for a :data:`SOFT_REASONS` and a :data:`PREFERRED_REASONS`
+    reason, each tier given up when it would leave no legal trajectory. May raise
+    ``CriticUnavailable``."""
     timing: dict[str, float] = {}
     prepare(objectives, ctx, timing)
     n = len(trajs)

@@ -53,16 +53,19 @@ Deviations and choices:
   robot stops until the walker has passed (the "yielding" time). Standing in a walker's way
   costs what the encounter will cost (the end point is where a robot can always stop).
 - Personal space as a preference (``personal_space`` m, 0 = off, the paper has no such rule;
-  ``max_over_time`` only): a trajectory whose distance to someone now at least
-  ``personal_space`` away (the distance this critic measures, over the rollout and the
-  passing continuation, scaled for partners and passages as above) comes inside it is illegal,
-  reason ``personal_space``, a *preferred* reason (``objectives.PREFERRED_REASONS``: given up
-  first, when no trajectory keeps it). ID alone only trades the distance against progress, so
-  the robot drove on beside a walker at 1.15–1.2 m, or squeezed past someone standing while
-  the other side had room, where slowing down for a moment kept the personal space
-  (generated hallway). Only where few people are near (at most ``personal_space_people``
-  within ``personal_space_range`` m: in a crowd nearly every move enters someone's space and
-  constant-velocity forecasts do not hold), only while one of them walks (at least
+  ``max_over_time`` only, at most ``threshold``): a trajectory that comes nearer than its
+  bound to someone now at least that far away is illegal, reason ``personal_space``, a
+  *preferred* reason (``objectives.PREFERRED_REASONS``: given up first, when no trajectory
+  keeps it). The distance is the one this critic measures (centre to centre with
+  ``distance="center"``), over the rollout and the passing continuation; each person's bound is
+  ``personal_space``, or their own threshold where that is less (an interaction partner at the
+  interaction's distance, someone beside a narrow passage at the most the passage allows less
+  ``partner_margin``). ID alone only trades the distance against progress, so the robot drove
+  on beside a walker at 1.14–1.25 m, or squeezed past someone standing while the other side
+  had room, where slowing down for a moment kept the personal space (generated hallway). Only
+  where few people are near (at most ``personal_space_people`` centres within
+  ``personal_space_range`` m of the robot's: in a crowd nearly every move enters someone's
+  space and constant-velocity forecasts do not hold), only while one of them walks (at least
   ``personal_space_walker_speed`` m/s; 0 = always: waiting for a walker to go by ends, but
   someone standing stays, and the robot stood 1.21 m from a viewer it had to pass until the
   time limit, generated gallery_pass), and with ``personal_space_kinematics="holonomic"`` only
@@ -98,12 +101,13 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from functools import lru_cache
+from numbers import Integral
 from typing import TYPE_CHECKING, ClassVar, Literal
 
 import numpy as np
 from numpy.typing import NDArray
 
-from socialnav.core.errors import ConfigurationError
+from socialnav.core.errors import ConfigurationError, is_non_negative_number
 from socialnav.core.geometry import (
     FloatArray,
     signed_distance_to_polygon,
@@ -488,11 +492,12 @@ class InterpersonalCritic(Critic):
     cap), ``footprint_disc`` (``inscribed`` | ``circumscribed``), ``collision_check`` (bool),
     ``partner_distance`` (bool) and ``partner_margin`` (m, 0.05), ``approach_check`` (bool),
     ``approach_speed`` (m/s, 0.02) and ``approach_footprint`` (``disc`` | ``polygon``),
-    ``hold_horizon`` (s, 0 = off), ``passage_distance`` (bool), ``personal_space`` (m, 0 = off)
-    with ``personal_space_people`` (int >= 1), ``personal_space_range`` (m),
-    ``personal_space_walker_speed`` (m/s) and ``personal_space_kinematics`` (``any`` |
-    ``holonomic``); each is described in the module
-    docstring. Raises ``ConfigurationError`` for a value out of range. Use:
+    ``hold_horizon`` (s, 0 = off), ``passage_distance`` (bool), ``personal_space`` (m, 0 = off,
+    at most ``threshold``, ``max_over_time`` only) with ``personal_space_people`` (int >= 1,
+    3), ``personal_space_range`` (m, 10.0), ``personal_space_walker_speed`` (m/s, 0.3) and
+    ``personal_space_kinematics`` (``any`` | ``holonomic``, ``any``); each is described in the
+    module docstring. Raises ``ConfigurationError`` for a ``personal_space*`` value out of
+    range or of the wrong type. Use:
     ``InterpersonalCritic(...).score(trajs, ctx)`` with a
     :class:`~socialnav.planner.context.PlanningContext` (no ``prepare`` needed).
     """
@@ -521,21 +526,30 @@ class InterpersonalCritic(Critic):
     personal_space_kinematics: Literal["any", "holonomic"] = "any"
 
     def __post_init__(self) -> None:
-        if not (np.isfinite(self.personal_space) and self.personal_space >= 0):
-            raise ConfigurationError("interpersonal: personal_space must be finite and >= 0")
-        if not (np.isfinite(self.personal_space_range) and self.personal_space_range > 0):
-            raise ConfigurationError("interpersonal: personal_space_range must be finite and > 0")
-        speed = self.personal_space_walker_speed
-        if not (np.isfinite(speed) and speed >= 0):
+        for name in ("personal_space", "personal_space_range", "personal_space_walker_speed"):
+            value = getattr(self, name)
+            if not is_non_negative_number(value) or (name.endswith("range") and value == 0):
+                sign = "> 0" if name.endswith("range") else ">= 0"
+                raise ConfigurationError(
+                    f"interpersonal: {name} must be a finite number {sign}, got {value!r}"
+                )
+        if self.personal_space > 0 and (
+            self.evaluation != "max_over_time" or self.personal_space > self.threshold
+        ):
             raise ConfigurationError(
-                "interpersonal: personal_space_walker_speed must be finite and >= 0"
+                "interpersonal: personal_space needs evaluation='max_over_time' and at most "
+                f"threshold ({self.threshold!r} m), got {self.personal_space!r} with "
+                f"{self.evaluation!r}"
             )
         if (
-            not isinstance(self.personal_space_people, int)
+            not isinstance(self.personal_space_people, Integral)
             or isinstance(self.personal_space_people, bool)
             or self.personal_space_people < 1
         ):
-            raise ConfigurationError("interpersonal: personal_space_people must be an int >= 1")
+            raise ConfigurationError(
+                "interpersonal: personal_space_people must be an int >= 1, got "
+                f"{self.personal_space_people!r}"
+            )
         if self.personal_space_kinematics not in ("any", "holonomic"):
             raise ConfigurationError(
                 "interpersonal: personal_space_kinematics must be any|holonomic, "
@@ -581,30 +595,34 @@ class InterpersonalCritic(Critic):
         self, ctx: PlanningContext, d: FloatArray, cols: NDArray[np.intp] | None
     ) -> np.ndarray | None:
         """``(N,)`` the rows of ``d`` (``(N, J)`` distances as measured and scaled, of the
-        people ``cols``, all when None) that come inside ``personal_space`` of someone now
-        outside it, or None when the rule does not apply (module docstring)."""
-        if self.personal_space <= 0 or self.evaluation != "max_over_time":
+        people ``cols``, all when None) that come inside someone's bound who is now outside it,
+        or None when the rule does not apply (module docstring)."""
+        if self.personal_space <= 0:
             return None
         if self.personal_space_kinematics == "holonomic" and not ctx.robot.holonomic:
             return None
-        now = np.hypot(*(ctx.social.positions() - ctx.pose[:2]).T)  # (K,) centre to centre
-        near = now <= self.personal_space_range
+        centre = np.hypot(*(ctx.social.positions() - ctx.pose[:2]).T)  # (K,)
+        near = centre <= self.personal_space_range
         if int(near.sum()) > self.personal_space_people:
             return None
         if self.personal_space_walker_speed > 0:
             v = ctx.social.velocities()
             if not (near & (np.hypot(v[:, 0], v[:, 1]) >= self.personal_space_walker_speed)).any():
                 return None
+        now = centre
         if self.distance == "edge":
             robot_r = footprint_radius(ctx, self.footprint_disc)
-            now = np.maximum(now - ctx.social.radii() - robot_r, 0.0)
+            now = np.maximum(centre - ctx.social.radii() - robot_r, 0.0)
         scale = self._distance_scale(ctx)
-        if scale is not None:
-            now = now * scale
-        outside = now >= self.personal_space
+        if scale is None:
+            scale = np.ones_like(now)
+        # d is scaled by threshold / own: the bound min(personal_space, own) on the measured
+        # distance is min(personal_space * scale, threshold) on the scaled one
+        bound = np.minimum(self.personal_space * scale, self.threshold)
+        outside = now * scale >= bound
         if cols is not None:
-            outside = outside[cols]
-        return np.asarray((d[:, outside] < self.personal_space).any(axis=1))
+            outside, bound = outside[cols], bound[cols]
+        return np.asarray((d[:, outside] < bound[outside][None, :]).any(axis=1))
 
     def score(self, trajs: Trajectories, ctx: PlanningContext) -> CriticScore:
         """Raw cost ``(N,)`` and illegal masks of the batch (see the class docstring)."""
