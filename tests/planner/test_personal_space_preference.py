@@ -259,3 +259,17 @@ def test_only_paccet_carries_the_rule_and_it_can_be_switched_off():
     for name in ("weighted_social", "paccet_paper", "traditional", "proxemic_layer"):
         assert rules(PRESETS.get(name).objectives) <= {0.0}, name
     assert rules(functools.partial(partner_objectives, personal_space=0.0)) == {0.0}
+
+
+def test_a_misconfigured_preset_fails_when_built_not_when_someone_appears():
+    import dataclasses
+    import functools
+
+    from socialnav.planner.presets import PRESETS, SceneObjectives, partner_objectives
+
+    bad = dataclasses.replace(
+        PRESETS.get("paccet"),
+        objectives=functools.partial(partner_objectives, personal_space=2.0),
+    )
+    with pytest.raises(ConfigurationError, match="personal_space"):
+        SceneObjectives(bad, bad.params)  # the navigator builds one with nobody in view

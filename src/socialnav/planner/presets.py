@@ -60,7 +60,7 @@ from socialnav.core.errors import (
 from socialnav.core.geometry import FloatArray
 from socialnav.core.registry import Registry
 from socialnav.core.robot import RobotModel
-from socialnav.core.scene import HUMAN_RADIUS, SocialContext
+from socialnav.core.scene import HUMAN_RADIUS, Person, SocialContext
 from socialnav.moo.paccet import PaccetOptions
 from socialnav.moo.scalarize import L1Target, Weighted
 from socialnav.moo.selection import PaccetSelection, SelectionStrategy, WeightedSum
@@ -261,9 +261,10 @@ def partner_objectives(
 
     ``personal_space`` (m; ``None``: ``PREFERRED_PERSONAL_SPACE``; 0 switches the rule off):
     a preset without it is
-    ``dataclasses.replace(PRESETS.get("paccet"), objectives=functools.partial(
-    partner_objectives, personal_space=0.0))``, registered with
-    ``socialnav.sim.stack.register_preset``."""
+    ``dataclasses.replace(PRESETS.get("paccet"), description="paccet without the personal
+    space preference", objectives=functools.partial(partner_objectives,
+    personal_space=0.0))``, registered with ``socialnav.sim.stack.register_preset`` (for the
+    CLI, in a script that then calls ``socialnav.cli.app()``: docs/extending.md)."""
     return recommended_objectives(
         social,
         social_goal,
@@ -804,12 +805,16 @@ class SceneObjectives:
     artworks in view (``ctx.social``): people appearing add their objectives, people leaving
     remove them. One (objectives, selection) pair is kept per set of objective names, so a
     navigator built with nobody in view plans exactly like one built with the people present.
+    The objectives of a scene with one person are built once at construction (and dropped), so
+    a critic's ``ConfigurationError`` is raised here, not in the first cycle someone is in view
+    (where the loop could only answer ``INVALID_INPUT``).
     """
 
     def __init__(self, preset: PlannerPreset, params: LocalPlannerParams) -> None:
         self.preset = preset
         self.params = params
         self._sets: dict[tuple[str, ...], tuple[tuple[Objective, ...], SelectionStrategy]] = {}
+        preset.objectives(SocialContext((Person(0, (0.0, 0.0)),)), False, params)
 
     def for_scene(self, social: SocialContext) -> tuple[tuple[Objective, ...], SelectionStrategy]:
         """The (objectives, selection) of the preset for the people and structures in

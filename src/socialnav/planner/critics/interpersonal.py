@@ -53,23 +53,24 @@ Deviations and choices:
   robot stops until the walker has passed (the "yielding" time). Standing in a walker's way
   costs what the encounter will cost (the end point is where a robot can always stop).
 - Personal space as a preference (``personal_space`` m, 0 = off, the paper has no such rule;
-  ``max_over_time`` only, at most ``threshold``): a trajectory that comes nearer than its
-  bound to someone now at least that far away is illegal, reason ``personal_space``, a
-  *preferred* reason (``objectives.PREFERRED_REASONS``: given up first, when no trajectory
-  keeps it). The distance is the one this critic measures (centre to centre with
-  ``distance="center"``), over the rollout and the passing continuation; each person's bound is
-  ``personal_space``, or their own threshold where that is less (an interaction partner at the
-  interaction's distance, someone beside a narrow passage at the most the passage allows less
-  ``partner_margin``). ID alone only trades the distance against progress, so the robot drove
-  on beside a walker at 1.14–1.25 m, or squeezed past someone standing while the other side
-  had room, where slowing down for a moment kept the personal space (generated hallway). Only
-  where few people are near (at most ``personal_space_people`` centres within
-  ``personal_space_range`` m of the robot's: in a crowd nearly every move enters someone's
-  space and constant-velocity forecasts do not hold), only while one of them walks (at least
-  ``personal_space_walker_speed`` m/s; 0 = always: waiting for a walker to go by ends, but
-  someone standing stays, and the robot stood 1.21 m from a viewer it had to pass until the
-  time limit, generated gallery_pass), and with ``personal_space_kinematics="holonomic"`` only
-  for a robot that can step sideways.
+  ``max_over_time`` only, at most ``threshold``): a trajectory that comes nearer than its bound to
+  someone now at least that far away is illegal, reason ``personal_space``, a *preferred* reason
+  (``objectives.PREFERRED_REASONS``: given up first, when no trajectory keeps it). The distance is
+  the one this critic measures (centre to centre with ``distance="center"``), over the rollout and
+  the passing continuation; each person's bound is ``personal_space``, or their own threshold where
+  that is less (an interaction partner at the interaction's distance, someone beside a narrow
+  passage at the most the passage allows less ``partner_margin``, a stranger near the given goal at
+  the goal's own distance less the margin; these are centre to centre, as ID's thresholds, also with
+  ``distance="edge"``). Someone already nearer than their bound is not judged. ID alone only trades
+  the distance against progress, so the robot drove on beside a walker at 1.14–1.2 m, or squeezed
+  past someone standing while the other side had room, where slowing down for a moment kept the
+  personal space (generated hallway). Only where few people are near (at most
+  ``personal_space_people`` centres within ``personal_space_range`` m of the robot's: in a crowd
+  nearly every move enters someone's space and constant-velocity forecasts do not hold), only while
+  one of them walks (at least ``personal_space_walker_speed`` m/s; 0 = always: waiting for a walker
+  to go by ends, but someone standing stays, and the robot stood 1.21 m from a viewer it had to pass
+  until the time limit, generated gallery_pass), and with ``personal_space_kinematics="holonomic"``
+  only for a robot that can step sideways.
 - Collisions: a trajectory whose footprint disc (``footprint_disc`` radius: the inscribed circle
   by default — the occupancy critic handles corners against walls; choose ``circumscribed`` to be
   conservative) overlaps a person's disc at any rollout time (people forecast by
