@@ -83,3 +83,13 @@ def step_pose(pose: np.ndarray, cmd: np.ndarray, dt: float = 0.1) -> np.ndarray:
 
 
 __all__ = ["LETHAL", "blank", "collides", "context", "step_pose", "straight", "world"]
+
+
+def straight_lines(velocities, duration: float = 1.5, steps: int = 16) -> Trajectories:
+    """Straight constant-velocity trajectories from the origin, one per ``(vx, vy)`` (m/s),
+    sampled ``steps`` times over ``duration`` s, heading 0."""
+    v = np.asarray(velocities, dtype=float).reshape(-1, 2)
+    t = np.linspace(0.0, duration, steps)
+    xy = t[None, :, None] * v[:, None, :]
+    poses = np.concatenate([xy, np.zeros((*xy.shape[:2], 1))], axis=-1)
+    return Trajectories(np.column_stack([v, np.zeros(len(v))]), poses, t)

@@ -13,13 +13,13 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from _planner_helpers import step_pose, world
+from _planner_helpers import straight_lines as _lines
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from socialnav.core.geometry import body_to_world, signed_distance_to_polygon
 from socialnav.core.robot import PIONEER, PR2, RobotModel
 from socialnav.core.scene import Person, SocialContext
-from socialnav.core.trajectories import Trajectories
 from socialnav.planner.context import PlanningContext
 from socialnav.planner.critics.interpersonal import (
     InterpersonalCritic,
@@ -45,15 +45,6 @@ def _ctx(social: SocialContext, robot: RobotModel = PR2) -> PlanningContext:
         robot=robot,
         social=social,
     )
-
-
-def _lines(velocities, duration: float = 1.5, steps: int = 16) -> Trajectories:
-    """Straight constant-velocity trajectories from the origin, one per ``(vx, vy)``."""
-    v = np.asarray(velocities, dtype=float).reshape(-1, 2)
-    t = np.linspace(0.0, duration, steps)
-    xy = t[None, :, None] * v[:, None, :]
-    poses = np.concatenate([xy, np.zeros((*xy.shape[:2], 1))], axis=-1)
-    return Trajectories(np.column_stack([v, np.zeros(len(v))]), poses, t)
 
 
 def test_standing_or_retreating_before_a_runner_is_passive_closing_is_active():

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from _planner_helpers import straight_lines
 
 from socialnav.core.errors import ConfigurationError
 from socialnav.core.robot import PIONEER, PR2, RobotModel
@@ -31,12 +32,7 @@ def _ctx(people: tuple[Person, ...], robot: RobotModel = PR2) -> PlanningContext
 
 
 def _lines(velocities, duration: float = 2.0, steps: int = 21) -> Trajectories:
-    """Straight constant-velocity trajectories from the origin, one per ``(vx, vy)``."""
-    v = np.asarray(velocities, dtype=float).reshape(-1, 2)
-    t = np.linspace(0.0, duration, steps)
-    xy = t[None, :, None] * v[:, None, :]
-    poses = np.concatenate([xy, np.zeros((*xy.shape[:2], 1))], axis=-1)
-    return Trajectories(np.column_stack([v, np.zeros(len(v))]), poses, t)
+    return straight_lines(velocities, duration, steps)
 
 
 RULE = InterpersonalCritic(

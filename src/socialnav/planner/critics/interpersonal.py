@@ -593,11 +593,16 @@ class InterpersonalCritic(Critic):
         return np.asarray(self.threshold / own)
 
     def _personal_space(
-        self, ctx: PlanningContext, d: FloatArray, cols: NDArray[np.intp] | None
+        self,
+        ctx: PlanningContext,
+        d: FloatArray,
+        cols: NDArray[np.intp] | None,
+        scale: FloatArray | None,
     ) -> np.ndarray | None:
-        """``(N,)`` the rows of ``d`` (``(N, J)`` distances as measured and scaled, of the
-        people ``cols``, all when None) that come inside someone's bound who is now outside it,
-        or None when the rule does not apply (module docstring)."""
+        """``(N,)`` the rows of ``d`` (``(N, J)`` distances as measured and scaled by ``scale``
+        (``(K,)``, :meth:`_distance_scale`'s, None: unscaled), of the people ``cols``, all when
+        None) that come inside someone's bound who is now outside it, or None when the rule
+        does not apply (module docstring)."""
         if self.personal_space <= 0:
             return None
         if self.personal_space_kinematics == "holonomic" and not ctx.robot.holonomic:
@@ -614,7 +619,6 @@ class InterpersonalCritic(Critic):
         if self.distance == "edge":
             robot_r = footprint_radius(ctx, self.footprint_disc)
             now = np.maximum(centre - ctx.social.radii() - robot_r, 0.0)
-        scale = self._distance_scale(ctx)
         if scale is None:
             scale = np.ones_like(now)
         # d is scaled by threshold / own: the bound min(personal_space, own) on the measured
@@ -682,7 +686,7 @@ class InterpersonalCritic(Critic):
             cost = np.zeros(n)
 
         illegal: dict[str, np.ndarray] = {}
-        inside = self._personal_space(ctx, d, None)
+        inside = self._personal_space(ctx, d, None, scale)
         if inside is not None:
             illegal["personal_space"] = inside
         if self.collision_check:
@@ -745,7 +749,7 @@ class InterpersonalCritic(Critic):
         f = capped_inverse_exp(d, self.threshold, self.min_distance)  # (N, J)
         cost = f.max(axis=1, initial=0.0)
         illegal: dict[str, np.ndarray] = {}
-        inside = self._personal_space(ctx, d, cols)
+        inside = self._personal_space(ctx, d, cols, scale)
         if inside is not None:
             illegal["personal_space"] = inside
         if self.collision_check:
